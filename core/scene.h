@@ -1,0 +1,104 @@
+// The scene description shared by renderer/ and analytic/ (neither includes
+// the other). Plain structs; load_scene() parses the JSON scene format
+// documented in README.md. All radiometric quantities are gray (one channel):
+// radiance in W·m⁻²·sr⁻¹, lengths in scene units, reflectance dimensionless.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "core/vec3.h"
+
+namespace furnace {
+
+// A parallelogram corner + s·edge_u + t·edge_v, s,t ∈ [0,1].
+// Its front normal is normalize(cross(edge_u, edge_v)).
+struct Rectangle {
+  Vec3 corner, edge_u, edge_v;
+  Vec3 normal() const { return normalize(cross(edge_u, edge_v)); }
+  double area() const { return length(cross(edge_u, edge_v)); }
+};
+
+// A flat disk; `normal` (unit) is its front side.
+struct Disk {
+  Vec3 center, normal;
+  double radius = 0;
+  double area() const { return kPi * radius * radius; }
+};
+
+// A sphere; its front side faces outward.
+struct Sphere {
+  Vec3 center;
+  double radius = 0;
+  double area() const { return 4.0 * kPi * radius * radius; }
+};
+
+// A triangle p0, p1, p2; front normal normalize(cross(p1 - p0, p2 - p0)).
+struct Triangle {
+  Vec3 p0, p1, p2;
+  Vec3 normal() const { return normalize(cross(p1 - p0, p2 - p0)); }
+  double area() const { return 0.5 * length(cross(p1 - p0, p2 - p0)); }
+};
+
+using Shape = std::variant<Rectangle, Disk, Sphere, Triangle>;
+
+enum class BsdfType { kLambertian, kMirror, kPhong };
+
+struct Material {
+  BsdfType type = BsdfType::kLambertian;
+  double albedo = 0;          // Lambertian reflectance ρ, mirror reflectance, or Phong lobe albedo
+  double phong_exponent = 0;  // normalised Phong exponent (BsdfType::kPhong only)
+};
+
+struct Object {
+  std::string name;
+  Shape shape;
+  Material material;
+  // Uniform Lambertian emission Le, radiance leaving the front side only
+  // (a sphere's front is its outside). 0 for non-emitters.
+  double emitted_radiance = 0;
+  bool is_emitter() const { return emitted_radiance > 0; }
+};
+
+// Constant radiance arriving from every direction not blocked by geometry.
+struct Environment {
+  double radiance = 0;
+};
+
+// Orthographic camera: one ray per pixel centre, all parallel to `forward`,
+// starting on the image plane through `center`. Pixel (0,0) is the top-left:
+// x grows along right = cross(forward, up), y grows along -up.
+struct Camera {
+  Vec3 center{0, 0, 1};
+  Vec3 forward{0, 0, -1};
+  Vec3 up{0, 1, 0};
+  double width = 1, height = 1;  // extent of the image plane, scene units
+  int width_px = 16, height_px = 16;
+
+  struct Ray { Vec3 origin, direction; };
+  // The ray through the centre of pixel (px, py).
+  Ray pixel_center_ray(int px, int py) const;
+};
+
+struct Scene {
+  std::string name;
+  std::string source;  // file it was loaded from, for error messages
+  Camera camera;
+  std::vector<Object> objects;
+  Environment environment;
+};
+
+// Parses a scene file. Throws furnace::Error with a sentence naming the file,
+// the field and the offending value on any malformed or unphysical input.
+Scene load_scene(const std::filesystem::path& path);
+// Same, from JSON text; `source` names the text in error messages.
+Scene parse_scene(const std::string& json_text, const std::string& source);
+
+// Geometric front normal of a shape at a point on it.
+Vec3 shape_normal(const Shape& shape, const Vec3& p);
+double shape_area(const Shape& shape);
+
+}  // namespace furnace

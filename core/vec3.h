@@ -1,0 +1,72 @@
+// Tiny shared math: a double-precision 3-vector and an orthonormal frame.
+// This is the only header analytic/ and renderer/ share besides the scene
+// description; it holds no sampling code, so a bug in the renderer's warps
+// cannot leak into the references.
+#pragma once
+
+#include <cmath>
+
+namespace furnace {
+
+struct Vec3 {
+  double x = 0, y = 0, z = 0;
+
+  constexpr Vec3() = default;
+  constexpr Vec3(double x_, double y_, double z_) : x(x_), y(y_), z(z_) {}
+
+  constexpr double operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
+  constexpr Vec3 operator-() const { return {-x, -y, -z}; }
+  constexpr Vec3 operator+(const Vec3& b) const { return {x + b.x, y + b.y, z + b.z}; }
+  constexpr Vec3 operator-(const Vec3& b) const { return {x - b.x, y - b.y, z - b.z}; }
+  constexpr Vec3 operator*(double s) const { return {x * s, y * s, z * s}; }
+  constexpr Vec3 operator/(double s) const { return {x / s, y / s, z / s}; }
+  Vec3& operator+=(const Vec3& b) { x += b.x; y += b.y; z += b.z; return *this; }
+  Vec3& operator-=(const Vec3& b) { x -= b.x; y -= b.y; z -= b.z; return *this; }
+  Vec3& operator*=(double s) { x *= s; y *= s; z *= s; return *this; }
+  constexpr bool operator==(const Vec3& b) const { return x == b.x && y == b.y && z == b.z; }
+};
+
+constexpr Vec3 operator*(double s, const Vec3& v) { return v * s; }
+constexpr double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+constexpr Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline double length_squared(const Vec3& v) { return dot(v, v); }
+// hypot-based so that tiny (1e-200) and huge (1e200) vectors neither underflow nor overflow.
+inline double length(const Vec3& v) { return std::hypot(v.x, v.y, v.z); }
+inline Vec3 normalize(const Vec3& v) { return v / length(v); }
+inline bool is_finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline double max_abs_component(const Vec3& v) {
+  return std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z)));
+}
+
+// Angle between two unit vectors by the atan2 form, accurate near 0 and π
+// where acos(dot) loses half its digits.
+inline double angle_between(const Vec3& a, const Vec3& b) {
+  return std::atan2(length(cross(a, b)), dot(a, b));
+}
+
+// Orthonormal frame (s, t, n) around a unit normal n. Local z is n.
+// Construction: Duff et al. 2017, "Building an Orthonormal Basis, Revisited"
+// (branchless, continuous except on the n.z = -0 seam).
+struct Frame {
+  Vec3 s, t, n;
+
+  static Frame from_normal(const Vec3& n) {
+    const double sign = std::copysign(1.0, n.z);
+    const double a = -1.0 / (sign + n.z);
+    const double b = n.x * n.y * a;
+    Frame f;
+    f.s = {1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x};
+    f.t = {b, sign + n.y * n.y * a, -n.y};
+    f.n = n;
+    return f;
+  }
+  Vec3 world_from_local(const Vec3& v) const { return s * v.x + t * v.y + n * v.z; }
+  Vec3 local_from_world(const Vec3& v) const { return {dot(v, s), dot(v, t), dot(v, n)}; }
+};
+
+inline constexpr double kPi = 3.14159265358979323846;
+inline constexpr double kInvPi = 0.31830988618379067154;
+
+}  // namespace furnace

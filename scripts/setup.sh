@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Installs furnace's build dependencies from Debian 12's archive (idempotent,
+# non-interactive). Run as root or with sudo available.
+set -euo pipefail
+
+packages=(
+  cmake g++ ninja-build
+  libembree-dev libtbb-dev
+  libcgal-dev libgmp-dev libmpfr-dev
+  libboost-dev libboost-math-dev
+  libopenexr-dev
+  libcli11-dev nlohmann-json3-dev libfmt-dev
+  libgtest-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ "${#missing[@]}" -eq 0 ]; then
+  echo "setup: all ${#packages[@]} packages already installed"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "setup: installing ${missing[*]}"
+$SUDO env DEBIAN_FRONTEND=noninteractive apt-get update -qq
+$SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
