@@ -1,0 +1,42 @@
+// Exact references for whole scenes: what every pixel of a furnace render must
+// converge to. This is the only analytic/ header verify/ needs; it dispatches
+// to the closed forms in the other analytic/ headers.
+//
+// Never includes renderer/ or Embree: camera rays are intersected here in
+// double precision, independently of the renderer's Embree geometry.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "core/scene.h"
+
+namespace furnace::analytic {
+
+// First intersection of a ray with the scene's shapes (double precision),
+// t > t_min. Empty on a miss.
+struct Hit {
+  double t;
+  size_t object_index;
+  Vec3 point;
+  Vec3 normal;  // front (geometric) normal of the shape at `point`
+};
+std::optional<Hit> intersect(const Scene& scene, const Vec3& origin, const Vec3& direction, double t_min = 0);
+
+// Irradiance E(p, n) = Σ_lights ∫ Le V cos θ dω at point p with unit normal n,
+// over the part of each emitter visible from p past every other object and
+// above p's horizon, plus the constant environment over its visible part.
+// `receiver` is excluded from the occluders (the surface p lies on).
+// Throws furnace::Error naming the scene and objects when the configuration is
+// outside what the library solves exactly.
+double irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optional<size_t> receiver);
+
+// Radiance the camera sees through the centre of pixel (px, py) for direct
+// lighting only: Le(x) + (ρ/π)·E(x) at the first hit x of a Lambertian
+// surface; the environment radiance on a miss.
+double pixel_center_radiance(const Scene& scene, int px, int py);
+
+// All pixel centres, row-major (index = py * width + px).
+std::vector<double> reference_image(const Scene& scene);
+
+}  // namespace furnace::analytic

@@ -1,0 +1,74 @@
+// The renderer's public entry point: render a scene with one named strategy
+// and return, per pixel, the running moments of the single-sample estimator.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/scene.h"
+
+namespace furnace {
+
+// Direct-lighting strategies (issue 2) and, later, path-tracing integrators.
+// Names are the CLI's: strategy_name()/parse_strategy() convert.
+enum class Strategy {
+  kUniformHemisphere,  // "uniform_hemisphere": directions uniform on the hemisphere, pdf 1/(2π) sr⁻¹
+  kCosineHemisphere,   // "cosine_hemisphere": pdf cos θ/π sr⁻¹
+  kLightArea,          // "light_area": a point uniform on an emitter's area + shadow ray
+};
+
+// Deliberately wrong variants, for negative controls only. kNone is the
+// renderer; every other value must make the verification fail.
+enum class Defect {
+  kNone,                // "none"
+  kDropLightCosine,     // "drop_light_cosine": light_area forgets cos θ' (area→solid angle Jacobian)
+  kPdfOffByConstant,    // "pdf_off_by_constant": the pdf used in the weight is 1.1× the true one
+  kSkipShadowRay,       // "skip_shadow_ray": light_area treats every light sample as visible
+};
+
+std::string strategy_name(Strategy s);
+// Throws furnace::Error naming the value and the accepted names.
+Strategy parse_strategy(const std::string& name);
+std::vector<Strategy> all_strategies();
+std::string defect_name(Defect d);
+Defect parse_defect(const std::string& name);
+
+struct RenderOptions {
+  Strategy strategy = Strategy::kLightArea;
+  Defect defect = Defect::kNone;
+  int spp = 64;
+  uint64_t seed = 1;
+  int threads = 0;  // 0: all hardware threads (tbb::global_control otherwise)
+};
+
+// Per-pixel central moments of the single-sample estimator Y, accumulated in
+// sample order (Welford / Terriberry updates, so the result is independent of
+// threading). Pixel index = py * width + px.
+struct PixelMoments {
+  uint64_t count = 0;
+  double mean = 0;
+  double m2 = 0;  // Σ (y - mean)²
+  double m3 = 0;  // Σ (y - mean)³
+  double m4 = 0;  // Σ (y - mean)⁴
+  void add(double y);
+  // Unbiased sample variance s² = m2 / (n - 1); 0 when n < 2.
+  double sample_variance() const { return count > 1 ? m2 / double(count - 1) : 0.0; }
+};
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<PixelMoments> pixels;
+  uint64_t nonfinite_samples = 0;  // NaN/Inf estimator values: dropped and counted (error tier 3)
+  uint64_t rays = 0;               // rays traced (primary + secondary + shadow)
+  double seconds = 0;              // wall time of render()
+  const PixelMoments& at(int px, int py) const { return pixels[size_t(py) * width + px]; }
+};
+
+// Renders the scene: one camera ray per pixel centre; the pixel estimator is
+// Y = Le(x) + (ρ/π)·Ê(x) at the first hit x, Ê the strategy's single-sample
+// irradiance estimate. Throws furnace::Error if the scene has no emitter for
+// light sampling.
+Image render(const Scene& scene, const RenderOptions& options);
+
+}  // namespace furnace
