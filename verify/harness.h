@@ -1,0 +1,62 @@
+// The verification harness: render a scene with one strategy, compare every
+// pixel and the image mean with the exact reference by hypothesis tests, and
+// summarise the verdict in one row of the table `furnace verify` prints.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/scene.h"
+#include "renderer/render.h"
+
+namespace furnace::verify {
+
+// The family-wise false-alarm probability of one `furnace verify` run (all
+// scenes × strategies × pixels together). Stated once; every test's own
+// level is derived from it by the Šidák correction.
+inline constexpr double kDefaultFamilyAlpha = 0.01;
+// Power at which the minimum detectable bias is quoted: the bias the test
+// would catch with probability 1 − β. 0.9 is the usual design power.
+inline constexpr double kReportedPower = 0.9;
+
+struct Case {
+  std::string scene_path;
+  RenderOptions options;
+};
+
+struct Verdict {
+  std::string scene;
+  std::string strategy;
+  std::string defect;
+  int spp = 0;
+  int pixels = 0;
+  // Image-mean test: mean over pixels of the estimates against the mean of
+  // the references, standard error from the per-pixel sample variances.
+  double image_mean = 0;
+  double reference_mean = 0;
+  double z = 0;
+  double threshold = 0;             // |z| above this fails the image-mean test
+  double detectable_rel_bias = 0;   // smallest relative bias of the image mean found with power kReportedPower
+  // Per-pixel tests (each at the Šidák-corrected level).
+  int pixel_failures = 0;
+  double worst_pixel_t = 0;
+  double median_pixel_detectable_rel_bias = 0;
+  double rmse = 0;                  // √(mean over pixels of (estimate − reference)²)
+  uint64_t nonfinite_samples = 0;
+  double seconds = 0;               // render wall time
+  double samples_per_second = 0;
+  bool pass = false;
+};
+
+// Runs one case. `per_case_alpha` is the family-wise level of this case's
+// P + 1 tests (P pixel tests and the image-mean test).
+Verdict run_case(const Case& c, double per_case_alpha);
+
+// The scenes `furnace verify` uses when none are given (the built-in suite).
+std::vector<std::string> default_scene_paths();
+
+// Formats the verdict table.
+std::string format_table(const std::vector<Verdict>& verdicts, double family_alpha);
+
+}  // namespace furnace::verify
