@@ -1,0 +1,76 @@
+// The furnace CLI: bad input gives one sentence naming the file, field and
+// value, a non-zero exit, and no output file.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+struct Result {
+  int exit_code;
+  std::string output;  // stdout and stderr
+};
+
+Result run_cli(const std::string& args) {
+  const std::string cmd = std::string(FURNACE_CLI) + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return {-1, "popen failed"};
+  std::string out;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+std::filesystem::path temp_dir() {
+  auto dir = std::filesystem::temp_directory_path() / ("furnace_cli_test_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+TEST(Cli, BadSceneFieldIsNamedAndNothingIsWritten) {
+  const auto dir = temp_dir();
+  const auto scene = dir / "bad.json";
+  std::ifstream in(std::string(FURNACE_SCENE_DIR) + "/disk_occluder.json");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string from = "\"radius\": 0.75";
+  text.replace(text.find(from), from.size(), "\"radius\": -0.75");
+  std::ofstream(scene) << text;
+  const auto out = dir / "out.exr";
+  const Result r = run_cli("render --scene " + scene.string() + " --output " + out.string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("bad.json"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("objects[1].shape.radius"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("-0.75"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Cli, UnknownStrategyIsNamed) {
+  const Result r = run_cli("verify --strategy uniform_hemisphre --spp 4");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("uniform_hemisphre"), std::string::npos) << r.output;
+}
+
+TEST(Cli, MissingSceneFileIsNamed) {
+  const Result r = run_cli("verify --scene /no/such/scene.json");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("/no/such/scene.json"), std::string::npos) << r.output;
+}
+
+TEST(Cli, BadNumberIsRejected) {
+  const Result r = run_cli("verify --spp -3");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("spp"), std::string::npos) << r.output;
+}
+
+TEST(Cli, InjectedDefectMakesVerifyFail) {
+  const Result r = run_cli("verify --strategy light_area --defect drop_light_cosine --spp 256");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("verdict: FAIL"), std::string::npos) << r.output;
+}
+
+}  // namespace
