@@ -1,0 +1,239 @@
+// Warps from the unit square to the standard domains of light transport.
+//
+// Every warp is an adjacent trio of free functions:
+//   sample_X(u1, u2)  maps a point of [0,1)² to the domain;
+//   X_pdf(w)          the density of sample_X in the measure named on its doc
+//                     line, 0 outside the support;
+//   invert_X(w)       maps a domain point back to the [0,1)² point that
+//                     sample_X maps to it (empty optional outside the support).
+// Directions are in the local frame: z is the surface normal, unit vectors in,
+// unit vectors out. No sampling code here is shared with analytic/.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+
+#include "core/vec3.h"
+
+namespace furnace {
+
+inline constexpr double kTwoPi = 2.0 * kPi;
+inline constexpr double kPiOver2 = 0.5 * kPi;
+inline constexpr double kPiOver4 = 0.25 * kPi;
+
+namespace sampling_detail {
+
+// sqrt that treats tiny negative round-off as 0 rather than producing NaN.
+inline double safe_sqrt(double x) { return std::sqrt(std::max(0.0, x)); }
+
+// Azimuth of (x, y) mapped to [0, 1): the inverse of φ = 2π·u.
+inline double azimuth_to_unit(double x, double y) {
+  double phi = std::atan2(y, x);
+  if (phi < 0) phi += kTwoPi;
+  const double u = phi / kTwoPi;
+  return u < 1.0 ? u : 0.0;  // φ = 2π (from φ just below 0) is the seam at u = 0
+}
+
+// Direction from cos θ, sin θ and u2 (φ = 2π·u2).
+inline Vec3 spherical_direction(double sin_theta, double cos_theta, double u2) {
+  const double phi = kTwoPi * u2;
+  return {sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta};
+}
+
+// 1 − cos θ of a unit vector, accurate when θ is tiny: (x² + y²)/(1 + z) for
+// z > 0, where 1 − z would cancel; the plain difference otherwise.
+inline double one_minus_cos_theta(const Vec3& w) {
+  return w.z > 0 ? (w.x * w.x + w.y * w.y) / (1.0 + w.z) : 1.0 - w.z;
+}
+
+}  // namespace sampling_detail
+
+// ---------------------------------------------------------------------------
+// Uniform hemisphere (z ≥ 0): cos θ = u1, φ = 2π·u2.
+
+inline Vec3 sample_uniform_hemisphere(double u1, double u2) {
+  const double z = u1;
+  const double r = sampling_detail::safe_sqrt((1.0 - z) * (1.0 + z));  // difference of squares
+  return sampling_detail::spherical_direction(r, z, u2);
+}
+// Density in solid angle (sr⁻¹): 1/(2π) on z ≥ 0, 0 below.
+inline double uniform_hemisphere_pdf(const Vec3& w) { return w.z >= 0 ? 1.0 / kTwoPi : 0.0; }
+inline std::optional<std::array<double, 2>> invert_uniform_hemisphere(const Vec3& w) {
+  if (!(w.z >= 0)) return std::nullopt;
+  return std::array<double, 2>{std::min(w.z, std::nextafter(1.0, 0.0)),
+                               sampling_detail::azimuth_to_unit(w.x, w.y)};
+}
+
+// ---------------------------------------------------------------------------
+// Uniform disk, Shirley & Chiu 1997 concentric map: squares around the centre
+// of [-1,1]² go to circles, preserving area fractions and adjacency.
+
+inline std::array<double, 2> sample_uniform_disk_concentric(double u1, double u2) {
+  const double a = 2.0 * u1 - 1.0;
+  const double b = 2.0 * u2 - 1.0;
+  if (a == 0 && b == 0) return {0.0, 0.0};
+  double r, phi;
+  if (std::fabs(a) > std::fabs(b)) {
+    r = a;
+    phi = kPiOver4 * (b / a);
+  } else {
+    r = b;
+    phi = kPiOver2 - kPiOver4 * (a / b);
+  }
+  return {r * std::cos(phi), r * std::sin(phi)};
+}
+// Density in area on the unit disk: 1/π inside (radius ≤ 1), 0 outside.
+inline double uniform_disk_pdf(const std::array<double, 2>& p) {
+  return p[0] * p[0] + p[1] * p[1] <= 1.0 ? kInvPi : 0.0;
+}
+inline std::optional<std::array<double, 2>> invert_uniform_disk_concentric(const std::array<double, 2>& p) {
+  const double x = p[0], y = p[1];
+  const double r = std::hypot(x, y);
+  if (!(r <= 1.0)) return std::nullopt;
+  if (r == 0) return std::array<double, 2>{0.5, 0.5};
+  double a, b;
+  if (std::fabs(x) >= std::fabs(y)) {
+    // Left/right wedges: the signed radius is a; φ is the angle of the point
+    // divided by sign(a), in (−π/4, π/4].
+    const double s = std::copysign(1.0, x);
+    a = s * r;
+    const double phi = std::atan2(s * y, s * x);
+    b = a * phi / kPiOver4;
+  } else {
+    // Top/bottom wedges: the signed radius is b; φ in (π/4, 3π/4).
+    const double s = std::copysign(1.0, y);
+    b = s * r;
+    const double phi = std::atan2(s * y, s * x);
+    a = b * (kPiOver2 - phi) / kPiOver4;
+  }
+  const auto to_unit = [](double v) { return std::clamp(0.5 * (v + 1.0), 0.0, std::nextafter(1.0, 0.0)); };
+  return std::array<double, 2>{to_unit(a), to_unit(b)};
+}
+
+// ---------------------------------------------------------------------------
+// Cosine-weighted hemisphere. Two samplers of the same density:
+//  - inversion: sin²θ = u1, φ = 2π·u2 (the CDF of cos θ·sin θ inverted);
+//  - Malley: a concentric-disk point lifted to the hemisphere.
+// invert_cosine_hemisphere inverts the inversion sampler.
+
+inline Vec3 sample_cosine_hemisphere(double u1, double u2) {
+  const double sin_theta = std::sqrt(u1);
+  const double cos_theta = std::sqrt(1.0 - u1);  // 1 − u1 is exact for u1 ≥ 1/2 and harmless below
+  return sampling_detail::spherical_direction(sin_theta, cos_theta, u2);
+}
+inline Vec3 sample_cosine_hemisphere_malley(double u1, double u2) {
+  const auto d = sample_uniform_disk_concentric(u1, u2);
+  const double z = sampling_detail::safe_sqrt(1.0 - d[0] * d[0] - d[1] * d[1]);
+  return {d[0], d[1], z};
+}
+// Density in solid angle (sr⁻¹): cos θ/π on z ≥ 0, 0 below.
+inline double cosine_hemisphere_pdf(const Vec3& w) { return w.z > 0 ? w.z * kInvPi : 0.0; }
+inline std::optional<std::array<double, 2>> invert_cosine_hemisphere(const Vec3& w) {
+  if (!(w.z >= 0)) return std::nullopt;
+  const double sin2_theta = std::min(w.x * w.x + w.y * w.y, std::nextafter(1.0, 0.0));
+  return std::array<double, 2>{sin2_theta, sampling_detail::azimuth_to_unit(w.x, w.y)};
+}
+// Inverse of the Malley sampler: the disk point is the projection (x, y).
+inline std::optional<std::array<double, 2>> invert_cosine_hemisphere_malley(const Vec3& w) {
+  if (!(w.z >= 0)) return std::nullopt;
+  return invert_uniform_disk_concentric({w.x, w.y});
+}
+
+// ---------------------------------------------------------------------------
+// Uniform sphere: cos θ = 1 − 2·u1, φ = 2π·u2.
+
+inline Vec3 sample_uniform_sphere(double u1, double u2) {
+  const double z = 1.0 - 2.0 * u1;
+  const double r = 2.0 * sampling_detail::safe_sqrt(u1 * (1.0 - u1));  // sin θ = √((1−z)(1+z)) = 2√(u1(1−u1))
+  return sampling_detail::spherical_direction(r, z, u2);
+}
+// Density in solid angle (sr⁻¹): 1/(4π) everywhere.
+inline double uniform_sphere_pdf(const Vec3& /*w*/) { return 1.0 / (4.0 * kPi); }
+inline std::optional<std::array<double, 2>> invert_uniform_sphere(const Vec3& w) {
+  const double u1 = std::clamp(0.5 * (1.0 - w.z), 0.0, std::nextafter(1.0, 0.0));
+  return std::array<double, 2>{u1, sampling_detail::azimuth_to_unit(w.x, w.y)};
+}
+
+// ---------------------------------------------------------------------------
+// Uniform cone of directions around +z with half-angle θmax.
+//
+// The density involves 1 − cos θmax, which cancels catastrophically for tiny
+// cones if computed as 1 − cos. ConeAperture carries it separately; build it
+// from sin²θmax (a sphere light: sin²θmax = r²/d²) to keep full precision:
+// 1 − cos θmax = sin²θmax/(1 + cos θmax).
+struct ConeAperture {
+  double cos_theta_max = 1;
+  double one_minus_cos_theta_max = 0;
+
+  static ConeAperture from_cos(double cos_theta_max) {
+    const double c = std::clamp(cos_theta_max, -1.0, 1.0);
+    return {c, 1.0 - c};  // no better information than c itself exists here
+  }
+  static ConeAperture from_sin2(double sin2_theta_max) {
+    const double s2 = std::clamp(sin2_theta_max, 0.0, 1.0);
+    const double c = std::sqrt(1.0 - s2);
+    return {c, s2 / (1.0 + c)};  // difference of squares: (1 − c)(1 + c) = s²
+  }
+};
+
+// Slack, relative to 1 − cos θmax, of the cone support test: a sample drawn
+// with u1 just below 1 lies on the rim up to a few ulps of round-off in
+// sin θ·(cos φ, sin φ); without slack pdf(sample) could read 0.
+inline constexpr double kConeSupportSlack = 1e-12;
+
+inline Vec3 sample_uniform_cone(double u1, double u2, const ConeAperture& cone) {
+  const double t = u1 * cone.one_minus_cos_theta_max;  // t = 1 − cos θ, uniform in [0, 1 − cos θmax)
+  const double cos_theta = 1.0 - t;
+  const double sin_theta = sampling_detail::safe_sqrt(t * (2.0 - t));  // sin²θ = (1−cos θ)(1+cos θ)
+  return sampling_detail::spherical_direction(sin_theta, cos_theta, u2);
+}
+inline Vec3 sample_uniform_cone(double u1, double u2, double cos_theta_max) {
+  return sample_uniform_cone(u1, u2, ConeAperture::from_cos(cos_theta_max));
+}
+// Density in solid angle (sr⁻¹): 1/(2π(1 − cos θmax)) inside the cone, 0 outside.
+inline double uniform_cone_pdf(const Vec3& w, const ConeAperture& cone) {
+  if (!(cone.one_minus_cos_theta_max > 0)) return 0.0;  // a zero-width cone is a delta: no density
+  const double t = sampling_detail::one_minus_cos_theta(w);
+  if (!(t <= cone.one_minus_cos_theta_max * (1.0 + kConeSupportSlack))) return 0.0;
+  return 1.0 / (kTwoPi * cone.one_minus_cos_theta_max);
+}
+inline double uniform_cone_pdf(const Vec3& w, double cos_theta_max) {
+  return uniform_cone_pdf(w, ConeAperture::from_cos(cos_theta_max));
+}
+inline std::optional<std::array<double, 2>> invert_uniform_cone(const Vec3& w, const ConeAperture& cone) {
+  if (uniform_cone_pdf(w, cone) == 0) return std::nullopt;
+  const double t = sampling_detail::one_minus_cos_theta(w);
+  const double u1 = std::min(t / cone.one_minus_cos_theta_max, std::nextafter(1.0, 0.0));
+  return std::array<double, 2>{u1, sampling_detail::azimuth_to_unit(w.x, w.y)};
+}
+inline std::optional<std::array<double, 2>> invert_uniform_cone(const Vec3& w, double cos_theta_max) {
+  return invert_uniform_cone(w, ConeAperture::from_cos(cos_theta_max));
+}
+
+// ---------------------------------------------------------------------------
+// Area-uniform barycentric coordinates (b0, b1, b2) on a triangle:
+// √u1 picks the distance from vertex 0 with density ∝ length, u2 the position
+// along that cross-section.
+
+inline std::array<double, 3> sample_uniform_triangle_barycentric(double u1, double u2) {
+  const double su = std::sqrt(u1);
+  const double b0 = 1.0 - su;
+  const double b1 = u2 * su;
+  return {b0, b1, std::max(0.0, 1.0 - b0 - b1)};
+}
+// Density in the area of the (b1, b2) parameter triangle (area 1/2): 2 inside, 0 outside.
+// On a world triangle of area A the density in area is 1/A.
+inline double uniform_triangle_barycentric_pdf(const std::array<double, 3>& b) {
+  return b[0] >= 0 && b[1] >= 0 && b[2] >= 0 ? 2.0 : 0.0;
+}
+inline std::optional<std::array<double, 2>> invert_uniform_triangle_barycentric(const std::array<double, 3>& b) {
+  if (uniform_triangle_barycentric_pdf(b) == 0) return std::nullopt;
+  const double su = b[1] + b[2];  // = 1 − b0 without cancellation
+  const double u1 = std::min(su * su, std::nextafter(1.0, 0.0));
+  const double u2 = su > 0 ? std::min(b[1] / su, std::nextafter(1.0, 0.0)) : 0.0;
+  return std::array<double, 2>{u1, u2};
+}
+
+}  // namespace furnace
