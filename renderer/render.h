@@ -16,6 +16,14 @@ enum class Strategy {
   kUniformHemisphere,  // "uniform_hemisphere": directions uniform on the hemisphere, pdf 1/(2π) sr⁻¹
   kCosineHemisphere,   // "cosine_hemisphere": pdf cos θ/π sr⁻¹
   kLightArea,          // "light_area": a point uniform on an emitter's area + shadow ray
+  // Appended by the renderer work (issues 4 and 5); never renumber the above.
+  kLightSolidAngle,    // "light_solid_angle": cone for spheres, spherical triangle (Arvo 1995) and
+                       //   rectangle (Ureña et al. 2013); disks fall back to area sampling
+  kBsdf,               // "bsdf": the surface's BSDF sampling (cosine for Lambertian, lobe for Phong, mirror)
+  kMisBalance,         // "mis_balance": one BSDF + one light_solid_angle sample, balance heuristic
+  kMisPower,           // "mis_power": the same with the power heuristic (β = 2)
+  kPathNaive,          // "path_naive": iterative path tracer, BSDF sampling, emission on hit
+  kPathMis,            // "path_mis": path tracer with next-event estimation + MIS (power heuristic)
 };
 
 // Deliberately wrong variants, for negative controls only. kNone is the
@@ -30,7 +38,13 @@ enum class Defect {
 std::string strategy_name(Strategy s);
 // Throws furnace::Error naming the value and the accepted names.
 Strategy parse_strategy(const std::string& name);
+// The direct-lighting strategies: the estimators of Y = Le + ∫ f·Li·cos dω with
+// Li the radiance emitted by the first visible surface or the environment
+// (the quantity analytic/ references). The path tracers are listed apart:
+// they estimate full global illumination (equal to direct lighting only on
+// scenes without interreflection, like the default disk-occluder scene).
 std::vector<Strategy> all_strategies();
+std::vector<Strategy> path_tracing_strategies();
 std::string defect_name(Defect d);
 Defect parse_defect(const std::string& name);
 
@@ -40,6 +54,11 @@ struct RenderOptions {
   int spp = 64;
   uint64_t seed = 1;
   int threads = 0;  // 0: all hardware threads (tbb::global_control otherwise)
+  // Path tracers only: the longest path (segments from the camera, the camera
+  // segment counts as 1), and the depth from which Russian roulette starts
+  // (survival probability min(1, throughput), reweighted by 1/p).
+  int max_depth = 64;
+  int roulette_depth = 3;
 };
 
 // Per-pixel central moments of the single-sample estimator Y, accumulated in

@@ -236,4 +236,24 @@ inline std::optional<std::array<double, 2>> invert_uniform_triangle_barycentric(
   return std::array<double, 2>{u1, u2};
 }
 
+// ---------------------------------------------------------------------------
+// Normalised Phong lobe around +z (the mirror direction, in the lobe frame):
+// cos α = u1^(1/(n+1)), φ = 2π·u2, so the density is (n+1)/(2π)·cos^n α.
+
+inline Vec3 sample_phong_lobe(double u1, double u2, double exponent) {
+  // 1 − u1 ∈ (0, 1] keeps cos α > 0 and pow well defined for every exponent.
+  const double cos_alpha = std::pow(1.0 - u1, 1.0 / (exponent + 1.0));
+  const double sin_alpha = sampling_detail::safe_sqrt((1.0 - cos_alpha) * (1.0 + cos_alpha));
+  return sampling_detail::spherical_direction(sin_alpha, cos_alpha, u2);
+}
+// Density in solid angle (sr⁻¹): (n+1)/(2π)·cos^n α on cos α > 0, 0 elsewhere.
+inline double phong_lobe_pdf(const Vec3& w, double exponent) {
+  return w.z > 0 ? (exponent + 1.0) / kTwoPi * std::pow(w.z, exponent) : 0.0;
+}
+inline std::optional<std::array<double, 2>> invert_phong_lobe(const Vec3& w, double exponent) {
+  if (!(w.z > 0)) return std::nullopt;
+  const double u1 = std::clamp(1.0 - std::pow(w.z, exponent + 1.0), 0.0, std::nextafter(1.0, 0.0));
+  return std::array<double, 2>{u1, sampling_detail::azimuth_to_unit(w.x, w.y)};
+}
+
 }  // namespace furnace

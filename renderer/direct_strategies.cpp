@@ -1,0 +1,300 @@
+#include "renderer/direct_strategies.h"
+
+#include <cmath>
+#include <variant>
+
+#include "core/error.h"
+#include "renderer/sampling.h"
+#include "renderer/spherical_sampling.h"
+
+namespace furnace {
+
+namespace {
+
+// DEFECT(pdf_off_by_constant): the pdf used in the weight is 1.1× the true one.
+constexpr double kDefectPdfFactor = 1.1;
+double pdf_in_weight(double pdf_solid_angle, Defect defect) {
+  return defect == Defect::kPdfOffByConstant ? kDefectPdfFactor * pdf_solid_angle : pdf_solid_angle;
+}
+
+DirectionSample local_direction_sample(const ShadingContext& ctx, const Vec3& wi_local, double pdf_solid_angle,
+                                       Defect defect) {
+  DirectionSample s;
+  s.wi_world = ctx.frame.world_from_local(wi_local);
+  s.pdf_solid_angle = pdf_solid_angle;
+  s.weight = ctx.bsdf.eval(ctx.wo_local, wi_local) * std::fmax(wi_local.z, 0.0) / pdf_in_weight(pdf_solid_angle, defect);
+  return s;
+}
+
+// ---------------------------------------------------------------------------
+// Sampling one emitter, by area or by solid angle. The choice of method is a
+// function of (shape, viewpoint, mode) only, so sample() and pdf() agree.
+
+struct ConeSetup {
+  Frame frame;  // z towards the sphere's centre
+  ConeAperture aperture;
+};
+using EmitterMethod = std::variant<std::monostate, ConeSetup, SphericalTriangleSampler, SphericalRectangleSampler>;
+
+EmitterMethod emitter_method(const Shape& shape, const Vec3& p, EmitterSampling mode) {
+  if (mode == EmitterSampling::kArea) return std::monostate{};
+  if (const auto* s = std::get_if<Sphere>(&shape)) {
+    const Vec3 to_center = s->center - p;
+    const double d2 = length_squared(to_center);
+    const double r2 = s->radius * s->radius;
+    if (!(d2 > r2)) return std::monostate{};  // inside or on the sphere: no cone, area sampling
+    return ConeSetup{Frame::from_normal(to_center / std::sqrt(d2)), ConeAperture::from_sin2(r2 / d2)};
+  }
+  if (const auto* t = std::get_if<Triangle>(&shape)) {
+    if (auto sampler = SphericalTriangleSampler::make(*t, p)) return *sampler;
+    return std::monostate{};
+  }
+  if (const auto* r = std::get_if<Rectangle>(&shape)) {
+    if (auto sampler = SphericalRectangleSampler::make(*r, p)) return *sampler;
+    return std::monostate{};
+  }
+  return std::monostate{};  // disks: no exact solid-angle map is used; area sampling
+}
+
+// Density in solid angle of direction wi from p reaching the emitter at
+// (point, normal), under `method`, excluding the light selection pmf.
+// The one helper both LightStrategy::sample and LightStrategy::pdf use.
+double emitter_pdf_solid_angle(const EmitterMethod& method, const Shape& shape, const Vec3& p, const Vec3& wi,
+                               const Vec3& point, const Vec3& normal) {
+  if (std::holds_alternative<std::monostate>(method)) {
+    return solid_angle_pdf_from_area(shape_area_pdf(shape), length_squared(point - p), dot(normal, -wi));
+  }
+  if (!(dot(normal, -wi) > 0)) return 0.0;  // one-sided: the back of the light has no density
+  if (const auto* cone = std::get_if<ConeSetup>(&method))
+    return uniform_cone_pdf(cone->frame.local_from_world(wi), cone->aperture);
+  if (const auto* tri = std::get_if<SphericalTriangleSampler>(&method)) return tri->pdf();
+  return std::get<SphericalRectangleSampler>(method).pdf();
+}
+
+struct EmitterPoint {
+  Vec3 point, normal;
+};
+
+// First intersection of p + t·w (t > 0) with the sphere, exact in double
+// precision; the discriminant in the form r² − |oc − (oc·w)w|², which does not
+// cancel for far-away spheres.
+std::optional<EmitterPoint> intersect_sphere(const Sphere& s, const Vec3& p, const Vec3& w) {
+  const Vec3 oc = p - s.center;
+  const double b = dot(oc, w);
+  const Vec3 perpendicular = oc - w * b;
+  const double disc = s.radius * s.radius - length_squared(perpendicular);
+  const double root = std::sqrt(std::fmax(disc, 0.0));  // rim directions of the cone: round-off below 0
+  const double t = -b - root;
+  if (!(t > 0)) return std::nullopt;
+  const Vec3 n = normalize(p + w * t - s.center);
+  return EmitterPoint{s.center + n * s.radius, n};
+}
+
+std::optional<EmitterPoint> intersect_plane(const Vec3& plane_point, const Vec3& normal, const Vec3& p,
+                                            const Vec3& w) {
+  const double denom = dot(w, normal);
+  if (denom == 0) return std::nullopt;
+  const double t = dot(plane_point - p, normal) / denom;
+  if (!(t > 0)) return std::nullopt;
+  return EmitterPoint{p + w * t, normal};
+}
+
+// A point on the emitter by `method`.
+std::optional<EmitterPoint> sample_emitter_point(const EmitterMethod& method, const Shape& shape, const Vec3& p,
+                                                 double u1, double u2) {
+  if (std::holds_alternative<std::monostate>(method)) {
+    const AreaSample a = sample_shape_area(shape, u1, u2);
+    return EmitterPoint{a.point, a.normal};
+  }
+  if (const auto* cone = std::get_if<ConeSetup>(&method)) {
+    const Vec3 w = cone->frame.world_from_local(sample_uniform_cone(u1, u2, cone->aperture));
+    return intersect_sphere(std::get<Sphere>(shape), p, w);
+  }
+  if (const auto* tri = std::get_if<SphericalTriangleSampler>(&method)) {
+    return intersect_plane(tri->triangle.p0, tri->triangle.normal(), p, tri->sample(u1, u2));
+  }
+  const auto& rect = std::get<SphericalRectangleSampler>(method);
+  return EmitterPoint{rect.sample_point(u1, u2), std::get<Rectangle>(shape).normal()};
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+
+std::optional<DirectionSample> UniformHemisphereStrategy::sample(const ShadingContext& ctx, const Uniform3& u) const {
+  const Vec3 wi_local = sample_uniform_hemisphere(u[1], u[2]);
+  const double pdf_solid_angle = uniform_hemisphere_pdf(wi_local);
+  if (!(pdf_solid_angle > 0)) return std::nullopt;
+  return local_direction_sample(ctx, wi_local, pdf_solid_angle, defect);
+}
+double UniformHemisphereStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_world) const {
+  return uniform_hemisphere_pdf(ctx.frame.local_from_world(wi_world));
+}
+
+std::optional<DirectionSample> CosineHemisphereStrategy::sample(const ShadingContext& ctx, const Uniform3& u) const {
+  const Vec3 wi_local = sample_cosine_hemisphere(u[1], u[2]);
+  const double pdf_solid_angle = cosine_hemisphere_pdf(wi_local);
+  if (!(pdf_solid_angle > 0)) return std::nullopt;
+  return local_direction_sample(ctx, wi_local, pdf_solid_angle, defect);
+}
+double CosineHemisphereStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_world) const {
+  return cosine_hemisphere_pdf(ctx.frame.local_from_world(wi_world));
+}
+
+std::optional<DirectionSample> BsdfStrategy::sample(const ShadingContext& ctx, const Uniform3& u) const {
+  const auto b = ctx.bsdf.sample(ctx.wo_local, u[1], u[2]);
+  if (!b) return std::nullopt;
+  DirectionSample s;
+  s.wi_world = ctx.frame.world_from_local(b->wi_local);
+  s.pdf_solid_angle = b->pdf_solid_angle;
+  s.delta = b->delta;
+  // DEFECT(pdf_off_by_constant) for non-delta samples: weight·pdf/(1.1·pdf).
+  s.weight = (!s.delta && defect == Defect::kPdfOffByConstant) ? b->weight / kDefectPdfFactor : b->weight;
+  return s;
+}
+double BsdfStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_world) const {
+  return ctx.bsdf.pdf(ctx.wo_local, ctx.frame.local_from_world(wi_world));
+}
+
+std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, const Uniform3& u) const {
+  if (lights->count() == 0) return std::nullopt;
+  const size_t light = lights->select(u[0]);
+  const double pmf = lights->selection_pmf();
+  LightSample s;
+  double pdf_for_weight = 0;
+  if (light == lights->emitters.size()) {
+    // The environment: cosine-weighted directions (its exact density for a constant sky).
+    const Vec3 wi_local = sample_cosine_hemisphere(u[1], u[2]);
+    s.wi_world = ctx.frame.world_from_local(wi_local);
+    s.pdf_solid_angle = pmf * cosine_hemisphere_pdf(wi_local);
+    s.radiance = scene->scene().environment.radiance;
+    s.shadow_origin = scene->spawn_origin(ctx.object, ctx.point, ctx.normal, s.wi_world);
+    s.shadow_direction = s.wi_world;
+    s.shadow_t_max = std::numeric_limits<double>::infinity();
+    pdf_for_weight = s.pdf_solid_angle;
+  } else {
+    const size_t object = lights->emitters[light];
+    const Object& emitter = scene->scene().objects[object];
+    const EmitterMethod method = emitter_method(emitter.shape, ctx.point, emitter_sampling);
+    const auto q = sample_emitter_point(method, emitter.shape, ctx.point, u[1], u[2]);
+    if (!q) return std::nullopt;
+    const Vec3 to_light = q->point - ctx.point;
+    const double distance_squared = length_squared(to_light);
+    if (!(distance_squared > 0)) return std::nullopt;
+    s.wi_world = to_light / std::sqrt(distance_squared);
+    s.pdf_solid_angle = pmf * emitter_pdf_solid_angle(method, emitter.shape, ctx.point, s.wi_world, q->point, q->normal);
+    s.radiance = emitter.emitted_radiance;
+    pdf_for_weight = s.pdf_solid_angle;
+    // DEFECT(drop_light_cosine): area sampling converts to solid angle with r² only, forgetting 1/cos θ'.
+    if (defect == Defect::kDropLightCosine && std::holds_alternative<std::monostate>(method) &&
+        dot(q->normal, -s.wi_world) > 0)
+      pdf_for_weight = pmf * solid_angle_pdf_from_area(shape_area_pdf(emitter.shape), distance_squared, 1.0);
+    // Shadow ray between the two offset surface points, so neither end hits its own surface.
+    s.shadow_origin = scene->spawn_origin(ctx.object, ctx.point, ctx.normal, s.wi_world);
+    const Vec3 target = scene->spawn_origin(object, q->point, q->normal, -s.wi_world);
+    const Vec3 segment = target - s.shadow_origin;
+    s.shadow_t_max = length(segment);
+    s.shadow_direction = segment / s.shadow_t_max;
+  }
+  if (!(s.pdf_solid_angle > 0)) return std::nullopt;  // back of a one-sided light, or a grazing point
+  const Vec3 wi_local = ctx.frame.local_from_world(s.wi_world);
+  s.weight = ctx.bsdf.eval(ctx.wo_local, wi_local) * std::fmax(wi_local.z, 0.0) / pdf_in_weight(pdf_for_weight, defect);
+  // DEFECT(skip_shadow_ray): every light sample is taken as visible.
+  s.assume_visible = defect == Defect::kSkipShadowRay;
+  return s;
+}
+
+double LightStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_world, const std::optional<SurfaceHit>& hit) const {
+  if (lights->count() == 0) return 0.0;
+  const double pmf = lights->selection_pmf();
+  if (!hit) return lights->environment ? pmf * cosine_hemisphere_pdf(ctx.frame.local_from_world(wi_world)) : 0.0;
+  const Object& o = scene->scene().objects[hit->object];
+  if (!o.is_emitter() || !hit->front_facing) return 0.0;
+  const EmitterMethod method = emitter_method(o.shape, ctx.point, emitter_sampling);
+  return pmf * emitter_pdf_solid_angle(method, o.shape, ctx.point, wi_world, hit->point, hit->normal);
+}
+
+// ---------------------------------------------------------------------------
+
+std::optional<SurfaceHit> trace_from(const EmbreeScene& scene, const ShadingContext& ctx, const Vec3& wi_world,
+                                     TraceCounters& counters) {
+  ++counters.rays;
+  return scene.intersect(scene.spawn_origin(ctx.object, ctx.point, ctx.normal, wi_world), wi_world);
+}
+
+bool light_visible(const EmbreeScene& scene, const LightSample& s, TraceCounters& counters) {
+  if (s.assume_visible) return true;  // DEFECT(skip_shadow_ray)
+  ++counters.rays;
+  return !scene.occluded(s.shadow_origin, s.shadow_direction, s.shadow_t_max);
+}
+
+double mis_weight(double pdf_a, double pdf_b, int beta) {
+  if (!(pdf_a > 0)) return 0.0;
+  const double a = beta == 2 ? pdf_a * pdf_a : pdf_a;
+  const double b = beta == 2 ? pdf_b * pdf_b : pdf_b;
+  return a / (a + b);
+}
+
+DirectLighting::DirectLighting(const EmbreeScene& scene, const LightSet& lights, Strategy strategy, Defect defect)
+    : scene_(scene), lights_(lights), strategy_(strategy), defect_(defect) {
+  light_.scene = &scene;
+  light_.lights = &lights;
+  light_.emitter_sampling = strategy == Strategy::kLightArea ? EmitterSampling::kArea : EmitterSampling::kSolidAngle;
+  light_.defect = defect;
+}
+
+template <typename DirectionStrategy>
+double DirectLighting::estimate_direction(const DirectionStrategy& strategy, const ShadingContext& ctx, Rng& rng,
+                                          TraceCounters& counters) const {
+  const auto s = strategy.sample(ctx, next_uniform3(rng));
+  if (!s || s->weight == 0) return 0.0;  // nothing to trace for a zero weight
+  const auto hit = trace_from(scene_, ctx, s->wi_world, counters);
+  return s->weight * emitted_radiance_towards(scene_.scene(), hit);
+}
+
+double DirectLighting::estimate_light(const ShadingContext& ctx, Rng& rng, TraceCounters& counters) const {
+  const auto s = light_.sample(ctx, next_uniform3(rng));
+  if (!s || s->weight == 0) return 0.0;
+  return light_visible(scene_, *s, counters) ? s->weight * s->radiance : 0.0;
+}
+
+double DirectLighting::estimate_mis(const ShadingContext& ctx, Rng& rng, TraceCounters& counters, int beta) const {
+  const BsdfStrategy bsdf{defect_};
+  double estimate = 0;
+  // One BSDF sample, weighted against the light strategy's density for the same direction.
+  if (const auto s = bsdf.sample(ctx, next_uniform3(rng)); s && s->weight != 0) {
+    const auto hit = trace_from(scene_, ctx, s->wi_world, counters);
+    const double le = emitted_radiance_towards(scene_.scene(), hit);
+    if (le > 0) {
+      const double w = s->delta ? 1.0 : mis_weight(s->pdf_solid_angle, light_.pdf(ctx, s->wi_world, hit), beta);
+      estimate += w * s->weight * le;
+    }
+  }
+  // One light sample, weighted against the BSDF's density (0 for a delta BSDF, whose eval is 0 anyway).
+  if (const auto s = light_.sample(ctx, next_uniform3(rng)); s && s->weight != 0) {
+    if (light_visible(scene_, *s, counters)) {
+      const double w = mis_weight(s->pdf_solid_angle, bsdf.pdf(ctx, s->wi_world), beta);
+      estimate += w * s->weight * s->radiance;
+    }
+  }
+  return estimate;
+}
+
+double DirectLighting::estimate(const ShadingContext& ctx, Rng& rng, TraceCounters& counters) const {
+  if (ctx.bsdf.is_black()) return 0.0;
+  switch (strategy_) {
+    case Strategy::kUniformHemisphere: return estimate_direction(UniformHemisphereStrategy{defect_}, ctx, rng, counters);
+    case Strategy::kCosineHemisphere: return estimate_direction(CosineHemisphereStrategy{defect_}, ctx, rng, counters);
+    case Strategy::kBsdf: return estimate_direction(BsdfStrategy{defect_}, ctx, rng, counters);
+    case Strategy::kLightArea:
+    case Strategy::kLightSolidAngle: return estimate_light(ctx, rng, counters);
+    case Strategy::kMisBalance: return estimate_mis(ctx, rng, counters, 1);
+    case Strategy::kMisPower: return estimate_mis(ctx, rng, counters, 2);
+    case Strategy::kPathNaive:
+    case Strategy::kPathMis: break;
+  }
+  FURNACE_CHECK(false && "DirectLighting::estimate called with a path-tracing strategy");
+  return 0.0;
+}
+
+}  // namespace furnace

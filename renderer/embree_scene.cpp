@@ -1,0 +1,253 @@
+#include "renderer/embree_scene.h"
+
+#include <cmath>
+#include <limits>
+#include <mutex>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+
+namespace furnace {
+
+namespace {
+
+// Origin offset, relative to the magnitude of the coordinates involved:
+// 2⁻¹⁸ is 32 float ulps, comfortably above Embree's single-precision
+// intersection error (a few ulps) and the double→float rounding of the origin
+// (half an ulp), and far below anything the statistical tests can resolve.
+constexpr double kSpawnOffsetRelative = 0x1.0p-18;
+
+const char* error_name(RTCError code) {
+  switch (code) {
+    case RTC_ERROR_NONE: return "RTC_ERROR_NONE";
+    case RTC_ERROR_UNKNOWN: return "RTC_ERROR_UNKNOWN";
+    case RTC_ERROR_INVALID_ARGUMENT: return "RTC_ERROR_INVALID_ARGUMENT";
+    case RTC_ERROR_INVALID_OPERATION: return "RTC_ERROR_INVALID_OPERATION";
+    case RTC_ERROR_OUT_OF_MEMORY: return "RTC_ERROR_OUT_OF_MEMORY";
+    case RTC_ERROR_UNSUPPORTED_CPU: return "RTC_ERROR_UNSUPPORTED_CPU";
+    case RTC_ERROR_CANCELLED: return "RTC_ERROR_CANCELLED";
+  }
+  return "unknown RTCError";
+}
+
+float to_float(double x) { return static_cast<float>(x); }
+
+double extent_of(const Shape& shape) {
+  struct Visitor {
+    double operator()(const Rectangle& r) const {
+      const Vec3 c = r.corner;
+      return std::fmax(std::fmax(max_abs_component(c), max_abs_component(c + r.edge_u)),
+                       std::fmax(max_abs_component(c + r.edge_v), max_abs_component(c + r.edge_u + r.edge_v)));
+    }
+    double operator()(const Disk& d) const { return max_abs_component(d.center) + d.radius; }
+    double operator()(const Sphere& s) const { return max_abs_component(s.center) + s.radius; }
+    double operator()(const Triangle& t) const {
+      return std::fmax(max_abs_component(t.p0), std::fmax(max_abs_component(t.p1), max_abs_component(t.p2)));
+    }
+  };
+  return std::visit(Visitor{}, shape);
+}
+
+void set_vertices3(RTCGeometry geom, const std::vector<Vec3>& vertices) {
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                        3 * sizeof(float), vertices.size()));
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    v[3 * i + 0] = to_float(vertices[i].x);
+    v[3 * i + 1] = to_float(vertices[i].y);
+    v[3 * i + 2] = to_float(vertices[i].z);
+  }
+}
+
+void set_point_with_radius(RTCGeometry geom, const Vec3& center, double radius) {
+  auto* v = static_cast<float*>(
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 1));
+  v[0] = to_float(center.x);
+  v[1] = to_float(center.y);
+  v[2] = to_float(center.z);
+  v[3] = to_float(radius);
+}
+
+RTCGeometry make_geometry(RTCDevice device, const Shape& shape) {
+  struct Visitor {
+    RTCDevice device;
+    RTCGeometry operator()(const Rectangle& r) const {
+      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
+      set_vertices3(g, {r.corner, r.corner + r.edge_u, r.corner + r.edge_u + r.edge_v, r.corner + r.edge_v});
+      auto* idx = static_cast<unsigned*>(
+          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), 1));
+      for (unsigned i = 0; i < 4; ++i) idx[i] = i;
+      return g;
+    }
+    RTCGeometry operator()(const Disk& d) const {
+      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT);
+      set_point_with_radius(g, d.center, d.radius);
+      auto* n = static_cast<float*>(
+          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 1));
+      n[0] = to_float(d.normal.x);
+      n[1] = to_float(d.normal.y);
+      n[2] = to_float(d.normal.z);
+      return g;
+    }
+    RTCGeometry operator()(const Sphere& s) const {
+      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+      set_point_with_radius(g, s.center, s.radius);
+      return g;
+    }
+    RTCGeometry operator()(const Triangle& t) const {
+      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+      set_vertices3(g, {t.p0, t.p1, t.p2});
+      auto* idx = static_cast<unsigned*>(
+          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), 1));
+      for (unsigned i = 0; i < 3; ++i) idx[i] = i;
+      return g;
+    }
+  };
+  return std::visit(Visitor{device}, shape);
+}
+
+// A point on the plane of a flat shape, for double-precision refinement.
+std::optional<Vec3> plane_point(const Shape& shape) {
+  if (const auto* r = std::get_if<Rectangle>(&shape)) return r->corner;
+  if (const auto* d = std::get_if<Disk>(&shape)) return d->center;
+  if (const auto* t = std::get_if<Triangle>(&shape)) return t->p0;
+  return std::nullopt;
+}
+
+RTCRay make_ray(const Vec3& origin, const Vec3& direction, double t_max) {
+  FURNACE_DCHECK(is_finite(origin));
+  FURNACE_DCHECK(std::fabs(length_squared(direction) - 1.0) < 1e-9);
+  RTCRay ray;
+  ray.org_x = to_float(origin.x);
+  ray.org_y = to_float(origin.y);
+  ray.org_z = to_float(origin.z);
+  ray.tnear = 0.0f;
+  ray.dir_x = to_float(direction.x);
+  ray.dir_y = to_float(direction.y);
+  ray.dir_z = to_float(direction.z);
+  ray.time = 0.0f;
+  ray.tfar = std::isinf(t_max) ? std::numeric_limits<float>::infinity() : to_float(t_max);
+  ray.mask = 0xFFFFFFFFu;
+  ray.id = 0;
+  ray.flags = 0;
+  return ray;
+}
+
+}  // namespace
+
+struct EmbreeDevice::ErrorRecord {
+  mutable std::mutex mutex;
+  RTCError code = RTC_ERROR_NONE;
+  std::string message;
+};
+
+void EmbreeDevice::on_error(void* user, RTCError code, const char* message) {
+  auto* record = static_cast<ErrorRecord*>(user);
+  std::lock_guard<std::mutex> lock(record->mutex);
+  if (record->code != RTC_ERROR_NONE) return;  // keep the first error: later ones are usually consequences
+  record->code = code;
+  record->message = message ? message : "";
+}
+
+EmbreeDevice::EmbreeDevice() : error_(std::make_unique<ErrorRecord>()) {
+  // Default configuration: a device created with threads=1 would throttle TBB
+  // for the whole process (TOOLCHAIN.md); render() uses tbb::global_control.
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) {
+    throw Error(fmt::format("cannot create the Embree device: {}.", error_name(rtcGetDeviceError(nullptr))));
+  }
+  rtcSetDeviceErrorFunction(device_, &EmbreeDevice::on_error, error_.get());
+}
+
+EmbreeDevice::~EmbreeDevice() {
+  if (device_) rtcReleaseDevice(device_);
+}
+
+void EmbreeDevice::check(const std::string& what) const {
+  std::lock_guard<std::mutex> lock(error_->mutex);
+  if (error_->code == RTC_ERROR_NONE) return;
+  throw Error(fmt::format("Embree failed while {}: {} ({}).", what, error_name(error_->code), error_->message));
+}
+
+EmbreeScene::EmbreeScene(const EmbreeDevice& device, const Scene& scene) : device_(device), scene_(scene) {
+  rtc_scene_ = rtcNewScene(device.get());
+  // Robust mode: watertight traversal, so rays through shared quad edges are not lost.
+  rtcSetSceneFlags(rtc_scene_, RTC_SCENE_FLAG_ROBUST);
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    RTCGeometry geom = make_geometry(device.get(), scene.objects[i].shape);
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(rtc_scene_, geom, static_cast<unsigned>(i));  // geomID == object index
+    rtcReleaseGeometry(geom);
+    object_extent_.push_back(extent_of(scene.objects[i].shape));
+  }
+  rtcCommitScene(rtc_scene_);
+  try {
+    device.check(fmt::format("building the scene '{}'", scene.name));
+  } catch (...) {
+    rtcReleaseScene(rtc_scene_);
+    throw;
+  }
+}
+
+EmbreeScene::~EmbreeScene() {
+  if (rtc_scene_) rtcReleaseScene(rtc_scene_);
+}
+
+std::optional<SurfaceHit> EmbreeScene::intersect(const Vec3& origin, const Vec3& direction, double t_max) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rayhit;
+  rayhit.ray = make_ray(origin, direction, t_max);
+  rayhit.hit.Ng_x = rayhit.hit.Ng_y = rayhit.hit.Ng_z = 0.0f;
+  rayhit.hit.u = rayhit.hit.v = 0.0f;
+  rayhit.hit.primID = RTC_INVALID_GEOMETRY_ID;
+  rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rayhit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(rtc_scene_, &context, &rayhit);
+  if (rayhit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+  return refine(rayhit.hit.geomID, origin, direction, rayhit.ray.tfar);
+}
+
+bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, double t_max) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray = make_ray(origin, direction, t_max);
+  rtcOccluded1(rtc_scene_, &context, &ray);
+  return ray.tfar == -std::numeric_limits<float>::infinity();
+}
+
+SurfaceHit EmbreeScene::refine(size_t object, const Vec3& origin, const Vec3& direction, double t_float) const {
+  const Shape& shape = scene_.objects[object].shape;
+  SurfaceHit hit;
+  hit.object = object;
+  hit.t = t_float;
+  if (const auto q = plane_point(shape)) {
+    // Planar: recompute the distance to the exact plane in double precision.
+    const Vec3 n = shape_normal(shape, *q);
+    const double denom = dot(direction, n);
+    if (denom != 0) hit.t = dot(*q - origin, n) / denom;
+    hit.point = origin + direction * hit.t;
+    hit.point -= n * dot(hit.point - *q, n);  // remove the last rounding off the plane
+    hit.normal = n;
+  } else {
+    // Sphere: project the float hit radially onto the exact sphere.
+    const Sphere& s = std::get<Sphere>(shape);
+    const Vec3 n = normalize(origin + direction * t_float - s.center);
+    hit.point = s.center + n * s.radius;
+    hit.t = dot(hit.point - origin, direction);
+    hit.normal = n;
+  }
+  hit.front_facing = dot(direction, hit.normal) < 0;
+  return hit;
+}
+
+double EmbreeScene::spawn_offset(size_t object, const Vec3& point) const {
+  return kSpawnOffsetRelative * (max_abs_component(point) + object_extent_[object]);
+}
+
+Vec3 EmbreeScene::spawn_origin(size_t object, const Vec3& point, const Vec3& normal, const Vec3& direction) const {
+  const Vec3 n_forward = dot(normal, direction) >= 0 ? normal : -normal;
+  return point + n_forward * spawn_offset(object, point);
+}
+
+}  // namespace furnace

@@ -1,0 +1,86 @@
+// Embree 3 behind RAII: one device, one committed scene built from a furnace
+// Scene with exact primitives (quads, oriented discs, sphere points,
+// triangles; never tessellations). Geometry IDs equal object indices.
+//
+// Embree intersects in single precision; every hit is refined in double
+// precision against the exact shape (plane or sphere) before shading, and rays
+// leave a surface from an origin offset along the face-forwarded geometric
+// normal by an amount proportional to the coordinates' magnitude
+// (spawn_offset()), never by a global absolute epsilon.
+#pragma once
+
+#include <cstddef>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <embree3/rtcore.h>
+
+#include "core/scene.h"
+
+namespace furnace {
+
+// Owns an RTCDevice. The error callback is installed right after
+// rtcNewDevice; it records the first error (it never throws, Embree calls it
+// from its own threads) and check() turns a recorded error into an exception.
+class EmbreeDevice {
+ public:
+  EmbreeDevice();
+  ~EmbreeDevice();
+  EmbreeDevice(const EmbreeDevice&) = delete;
+  EmbreeDevice& operator=(const EmbreeDevice&) = delete;
+
+  RTCDevice get() const { return device_; }
+  // Throws furnace::Error naming `what` and the recorded Embree error, if any.
+  void check(const std::string& what) const;
+
+ private:
+  struct ErrorRecord;
+  static void on_error(void* user, RTCError code, const char* message);
+  std::unique_ptr<ErrorRecord> error_;
+  RTCDevice device_ = nullptr;
+};
+
+// A first hit, refined to double precision on the exact shape.
+struct SurfaceHit {
+  double t = 0;             // distance along the unit ray direction
+  size_t object = 0;        // index into Scene::objects
+  Vec3 point;               // on the exact surface
+  Vec3 normal;              // front (geometric) normal at `point`, unit
+  bool front_facing = false;  // the ray arrived on the front side: dot(direction, normal) < 0
+};
+
+class EmbreeScene {
+ public:
+  // Builds and commits; throws furnace::Error on an Embree error.
+  EmbreeScene(const EmbreeDevice& device, const Scene& scene);
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  // First hit with t in (0, t_max]. `direction` must be unit, `origin` finite.
+  std::optional<SurfaceHit> intersect(const Vec3& origin, const Vec3& direction,
+                                      double t_max = std::numeric_limits<double>::infinity()) const;
+  // True if anything lies on the open segment origin + t·direction, t in (0, t_max).
+  bool occluded(const Vec3& origin, const Vec3& direction, double t_max) const;
+
+  // Origin for a ray leaving `point` on `object` towards `direction`: pushed
+  // off the surface along the geometric normal, on the side `direction` goes.
+  Vec3 spawn_origin(size_t object, const Vec3& point, const Vec3& normal, const Vec3& direction) const;
+  // Distance by which spawn_origin moves the point (exposed for tests).
+  double spawn_offset(size_t object, const Vec3& point) const;
+
+  const Scene& scene() const { return scene_; }
+
+ private:
+  SurfaceHit refine(size_t object, const Vec3& origin, const Vec3& direction, double t_float) const;
+
+  const EmbreeDevice& device_;
+  const Scene& scene_;
+  RTCScene rtc_scene_ = nullptr;
+  std::vector<double> object_extent_;  // largest |coordinate| of each object's bounding box
+};
+
+}  // namespace furnace

@@ -1,0 +1,66 @@
+// Shared vocabulary of the renderer's estimators.
+//
+// THE RETURN CONVENTION (every strategy, BSDF and light sampler uses it):
+//   a sample of direction ωi carries  weight = f(ωo, ωi)·cos θi / pdf(ωi),
+//   pdf in solid angle, so that the single-sample estimate of the reflected
+//   radiance ∫ f·Li·cos θi dωi is  weight · Li(ωi)  (Li including visibility).
+// Failure (no usable direction) is an empty optional, never a zero sentinel.
+// Delta samples carry delta = true and pdf 0; their weight is finite.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "core/scene.h"
+#include "renderer/bsdf.h"
+#include "renderer/embree_scene.h"
+
+namespace furnace {
+
+// A shading point: the frame's z is the geometric normal face-forwarded
+// towards ωo (the direction back to the viewer), so BSDF queries see wo.z ≥ 0.
+struct ShadingContext {
+  size_t object = 0;
+  Vec3 point;
+  Vec3 normal;  // front geometric normal of the object
+  Frame frame;  // local z = normal face-forwarded towards wo
+  Vec3 wo_world;
+  Vec3 wo_local;
+  Bsdf bsdf;
+
+  static ShadingContext at(const SurfaceHit& hit, const Vec3& wo_world, const Material& material) {
+    ShadingContext c;
+    c.object = hit.object;
+    c.point = hit.point;
+    c.normal = hit.normal;
+    c.frame = Frame::from_normal(dot(hit.normal, wo_world) >= 0 ? hit.normal : -hit.normal);
+    c.wo_world = wo_world;
+    c.wo_local = c.frame.local_from_world(wo_world);
+    c.bsdf = Bsdf{&material};
+    return c;
+  }
+};
+
+// A sampled direction (hemisphere strategies, BSDF sampling).
+struct DirectionSample {
+  Vec3 wi_world;
+  double pdf_solid_angle = 0;  // the strategy's true density (0 for delta)
+  double weight = 0;           // f·cos θi / pdf, see the convention above
+  bool delta = false;
+};
+
+// Radiance arriving along a ray that found `hit` (or nothing): emission of a
+// front-facing emitter, the environment on a miss, 0 otherwise. Emitters are
+// one-sided: they emit along their front normal (spheres: outward).
+inline double emitted_radiance_towards(const Scene& scene, const std::optional<SurfaceHit>& hit) {
+  if (!hit) return scene.environment.radiance;
+  const Object& o = scene.objects[hit->object];
+  return hit->front_facing ? o.emitted_radiance : 0.0;
+}
+
+// Counters a worker accumulates without sharing (one per thread).
+struct TraceCounters {
+  uint64_t rays = 0;
+};
+
+}  // namespace furnace

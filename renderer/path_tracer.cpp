@@ -1,0 +1,78 @@
+#include "renderer/path_tracer.h"
+
+#include <algorithm>
+
+namespace furnace {
+
+namespace {
+constexpr int kPowerHeuristic = 2;  // β of Veach's power heuristic
+}  // namespace
+
+PathTracer::PathTracer(const EmbreeScene& scene, const LightSet& lights, const RenderOptions& options)
+    : scene_(scene),
+      next_event_(options.strategy == Strategy::kPathMis),
+      max_depth_(options.max_depth),
+      roulette_depth_(options.roulette_depth) {
+  light_.scene = &scene;
+  light_.lights = &lights;
+  light_.emitter_sampling = EmitterSampling::kSolidAngle;
+  light_.defect = options.defect;
+  bsdf_.defect = options.defect;
+}
+
+double PathTracer::radiance(const Vec3& direction, const std::optional<SurfaceHit>& first_hit, Rng& rng,
+                            TraceCounters& counters) const {
+  const Scene& scene = scene_.scene();
+  double radiance = 0;
+  double throughput = 1;
+  std::optional<SurfaceHit> hit = first_hit;
+  Vec3 wi_world = direction;
+  // The vertex the current segment left from, for MIS of emission found by BSDF sampling.
+  std::optional<ShadingContext> previous;
+  double previous_pdf_bsdf = 0;
+  bool previous_delta = true;  // the camera segment counts as delta: its emission is never MIS-weighted
+
+  for (int depth = 1;; ++depth) {
+    // Emission reached by the segment just traced.
+    const double le = emitted_radiance_towards(scene, hit);
+    if (le > 0) {
+      double w = 1;
+      if (next_event_ && !previous_delta)
+        w = mis_weight(previous_pdf_bsdf, light_.pdf(*previous, wi_world, hit), kPowerHeuristic);
+      radiance += throughput * w * le;
+    }
+    if (!hit || depth >= max_depth_) break;
+
+    const Object& object = scene.objects[hit->object];
+    const ShadingContext ctx = ShadingContext::at(*hit, -wi_world, object.material);
+    if (ctx.bsdf.is_black()) break;
+
+    if (next_event_ && !ctx.bsdf.is_delta()) {
+      if (const auto s = light_.sample(ctx, next_uniform3(rng)); s && s->weight != 0) {
+        if (light_visible(scene_, *s, counters)) {
+          const double w = mis_weight(s->pdf_solid_angle, bsdf_.pdf(ctx, s->wi_world), kPowerHeuristic);
+          radiance += throughput * w * s->weight * s->radiance;
+        }
+      }
+    }
+
+    const auto s = bsdf_.sample(ctx, next_uniform3(rng));
+    if (!s || s->weight == 0) break;
+    throughput *= s->weight;
+
+    if (depth >= roulette_depth_) {
+      const double survive = std::min(1.0, throughput);
+      if (!(rng.next_double() < survive)) break;
+      throughput /= survive;  // unbiased: E[throughput'] = throughput
+    }
+
+    hit = trace_from(scene_, ctx, s->wi_world, counters);
+    wi_world = s->wi_world;
+    previous = ctx;
+    previous_pdf_bsdf = s->pdf_solid_angle;
+    previous_delta = s->delta;
+  }
+  return radiance;
+}
+
+}  // namespace furnace

@@ -1,0 +1,38 @@
+// Iterative unidirectional path tracers (issue 5).
+//
+//  - naive: BSDF sampling only, emission (and the environment) counted where
+//    a path hits it;
+//  - NEE + MIS: at every non-delta vertex one light sample (LightStrategy,
+//    solid-angle sampling) plus the BSDF continuation; emission found by the
+//    continuation is weighted against the light density by the power
+//    heuristic, emission found by light sampling against the BSDF density.
+// Russian roulette from RenderOptions::roulette_depth with survival
+// probability min(1, throughput), survivors reweighted by 1/p; paths end at
+// RenderOptions::max_depth segments (the camera segment is segment 1).
+// Sample weights follow estimator.h (weight = f·cos θ/pdf).
+#pragma once
+
+#include <optional>
+
+#include "renderer/direct_strategies.h"
+
+namespace furnace {
+
+class PathTracer {
+ public:
+  PathTracer(const EmbreeScene& scene, const LightSet& lights, const RenderOptions& options);
+  // Radiance along the camera ray (origin, direction) whose first hit is
+  // `first_hit` (traced once per pixel by the caller).
+  double radiance(const Vec3& direction, const std::optional<SurfaceHit>& first_hit, Rng& rng,
+                  TraceCounters& counters) const;
+
+ private:
+  const EmbreeScene& scene_;
+  bool next_event_;
+  int max_depth_;
+  int roulette_depth_;
+  LightStrategy light_;
+  BsdfStrategy bsdf_;
+};
+
+}  // namespace furnace

@@ -1,0 +1,184 @@
+// render(): the per-pixel driver. Every pixel accumulates its samples in
+// sample order from its own random streams, so the image does not depend on
+// the thread count or the schedule.
+#include "renderer/render.h"
+
+#include <chrono>
+#include <cmath>
+#include <optional>
+
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include "core/error.h"
+#include "renderer/direct_strategies.h"
+#include "renderer/embree_scene.h"
+#include "renderer/lights.h"
+#include "renderer/path_tracer.h"
+#include "renderer/rng.h"
+
+namespace furnace {
+
+namespace {
+
+struct StrategyInfo {
+  Strategy strategy;
+  const char* name;
+};
+constexpr StrategyInfo kStrategies[] = {
+    {Strategy::kUniformHemisphere, "uniform_hemisphere"},
+    {Strategy::kCosineHemisphere, "cosine_hemisphere"},
+    {Strategy::kLightArea, "light_area"},
+    {Strategy::kLightSolidAngle, "light_solid_angle"},
+    {Strategy::kBsdf, "bsdf"},
+    {Strategy::kMisBalance, "mis_balance"},
+    {Strategy::kMisPower, "mis_power"},
+    {Strategy::kPathNaive, "path_naive"},
+    {Strategy::kPathMis, "path_mis"},
+};
+
+struct DefectInfo {
+  Defect defect;
+  const char* name;
+};
+constexpr DefectInfo kDefects[] = {
+    {Defect::kNone, "none"},
+    {Defect::kDropLightCosine, "drop_light_cosine"},
+    {Defect::kPdfOffByConstant, "pdf_off_by_constant"},
+    {Defect::kSkipShadowRay, "skip_shadow_ray"},
+};
+
+bool is_path_tracer(Strategy s) { return s == Strategy::kPathNaive || s == Strategy::kPathMis; }
+bool samples_lights(Strategy s) {
+  return s == Strategy::kLightArea || s == Strategy::kLightSolidAngle || s == Strategy::kMisBalance ||
+         s == Strategy::kMisPower || s == Strategy::kPathMis;
+}
+
+// Smallest TBB task, in pixels: one pixel already holds spp samples of work, so
+// the auto partitioner may split down to single pixels (tiny test images too).
+constexpr size_t kPixelGrain = 1;
+
+}  // namespace
+
+void PixelMoments::add(double y) {
+  // Terriberry's one-pass update of the central moment sums (exact algebra,
+  // M4 and M3 first since they use the old M2, M3).
+  const double n1 = double(count);
+  ++count;
+  const double n = double(count);
+  const double delta = y - mean;
+  const double delta_n = delta / n;
+  const double delta_n2 = delta_n * delta_n;
+  const double term1 = delta * delta_n * n1;
+  mean += delta_n;
+  m4 += term1 * delta_n2 * (n * n - 3 * n + 3) + 6 * delta_n2 * m2 - 4 * delta_n * m3;
+  m3 += term1 * delta_n * (n - 2) - 3 * delta_n * m2;
+  m2 += term1;
+}
+
+std::string strategy_name(Strategy s) {
+  for (const auto& info : kStrategies)
+    if (info.strategy == s) return info.name;
+  return fmt::format("strategy#{}", int(s));
+}
+
+Strategy parse_strategy(const std::string& name) {
+  std::string accepted;
+  for (const auto& info : kStrategies) {
+    if (name == info.name) return info.strategy;
+    accepted += accepted.empty() ? info.name : std::string(", ") + info.name;
+  }
+  throw Error(fmt::format("unknown strategy '{}'; the accepted names are {}.", name, accepted));
+}
+
+std::vector<Strategy> all_strategies() {
+  std::vector<Strategy> out;
+  for (const auto& info : kStrategies)
+    if (!is_path_tracer(info.strategy)) out.push_back(info.strategy);
+  return out;
+}
+
+std::vector<Strategy> path_tracing_strategies() { return {Strategy::kPathNaive, Strategy::kPathMis}; }
+
+std::string defect_name(Defect d) {
+  for (const auto& info : kDefects)
+    if (info.defect == d) return info.name;
+  return fmt::format("defect#{}", int(d));
+}
+
+Defect parse_defect(const std::string& name) {
+  std::string accepted;
+  for (const auto& info : kDefects) {
+    if (name == info.name) return info.defect;
+    accepted += accepted.empty() ? info.name : std::string(", ") + info.name;
+  }
+  throw Error(fmt::format("unknown defect '{}'; the accepted names are {}.", name, accepted));
+}
+
+Image render(const Scene& scene, const RenderOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  if (options.spp < 1) throw Error(fmt::format("render option spp must be at least 1, got {}.", options.spp));
+  if (options.threads < 0)
+    throw Error(fmt::format("render option threads must be 0 (all) or positive, got {}.", options.threads));
+  if (options.max_depth < 1)
+    throw Error(fmt::format("render option max_depth must be at least 1, got {}.", options.max_depth));
+
+  // Thread count via TBB (never via the Embree device config, see TOOLCHAIN.md).
+  std::optional<tbb::global_control> thread_limit;
+  if (options.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(options.threads));
+
+  const EmbreeDevice device;
+  const EmbreeScene rtc_scene(device, scene);
+  const LightSet lights(scene);
+  if (samples_lights(options.strategy) && lights.count() == 0)
+    throw Error(fmt::format("scene '{}' has no emitter and no environment, so strategy '{}' has no light to sample.",
+                            scene.source.empty() ? scene.name : scene.source, strategy_name(options.strategy)));
+
+  const DirectLighting direct(rtc_scene, lights, options.strategy, options.defect);
+  const PathTracer path_tracer(rtc_scene, lights, options);
+  const bool path = is_path_tracer(options.strategy);
+
+  Image image;
+  image.width = scene.camera.width_px;
+  image.height = scene.camera.height_px;
+  const size_t n_pixels = size_t(image.width) * size_t(image.height);
+  image.pixels.assign(n_pixels, PixelMoments{});
+
+  tbb::combinable<TraceCounters> counters;
+  tbb::combinable<uint64_t> nonfinite([] { return uint64_t(0); });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n_pixels, kPixelGrain), [&](const tbb::blocked_range<size_t>& r) {
+    TraceCounters& c = counters.local();
+    uint64_t& bad = nonfinite.local();
+    for (size_t pixel = r.begin(); pixel != r.end(); ++pixel) {
+      const int px = int(pixel % size_t(image.width));
+      const int py = int(pixel / size_t(image.width));
+      const Camera::Ray ray = scene.camera.pixel_center_ray(px, py);
+      // The camera ray is the same for every sample of the pixel: trace it once.
+      ++c.rays;
+      const std::optional<SurfaceHit> hit = rtc_scene.intersect(ray.origin, ray.direction);
+      const double le = emitted_radiance_towards(scene, hit);
+      std::optional<ShadingContext> ctx;
+      if (hit) ctx = ShadingContext::at(*hit, -ray.direction, scene.objects[hit->object].material);
+      PixelMoments& moments = image.pixels[pixel];
+      for (int s = 0; s < options.spp; ++s) {
+        Rng rng(options.seed, pixel, uint64_t(s));
+        double y;
+        if (path) y = path_tracer.radiance(ray.direction, hit, rng, c);
+        else y = ctx ? le + direct.estimate(*ctx, rng, c) : le;
+        if (std::isfinite(y)) moments.add(y);
+        else ++bad;  // error tier 3: dropped and counted
+      }
+    }
+  });
+  device.check(fmt::format("rendering the scene '{}'", scene.name));
+
+  counters.combine_each([&](const TraceCounters& c) { image.rays += c.rays; });
+  nonfinite.combine_each([&](uint64_t n) { image.nonfinite_samples += n; });
+  image.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return image;
+}
+
+}  // namespace furnace

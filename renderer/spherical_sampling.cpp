@@ -1,0 +1,113 @@
+#include "renderer/spherical_sampling.h"
+
+#include "renderer/sampling.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace furnace {
+
+namespace {
+
+double safe_sqrt(double x) { return std::sqrt(std::max(0.0, x)); }
+
+// Unit component of v orthogonal to the unit vector a.
+Vec3 orthogonal_part(const Vec3& v, const Vec3& a) { return normalize(v - a * dot(v, a)); }
+
+// Relative tolerance on perpendicular rectangle edges: scene files give edges
+// as decimal numbers, so exactly perpendicular inputs are perpendicular to
+// within a few ulps.
+constexpr double kPerpendicularTolerance = 1e-12;
+
+}  // namespace
+
+double spherical_triangle_solid_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double numerator = std::fabs(dot(a, cross(b, c)));
+  const double denominator = 1.0 + dot(a, b) + dot(b, c) + dot(c, a);
+  return 2.0 * std::atan2(numerator, denominator);  // atan2: correct also when the denominator is ≤ 0
+}
+
+std::optional<SphericalTriangleSampler> SphericalTriangleSampler::make(const Triangle& t, const Vec3& origin) {
+  // One-sided light: only a viewpoint strictly in front of the triangle sees it.
+  if (!(dot(origin - t.p0, t.normal()) > 0)) return std::nullopt;
+  SphericalTriangleSampler s;
+  s.origin = origin;
+  s.triangle = t;
+  s.a = normalize(t.p0 - origin);
+  s.b = normalize(t.p1 - origin);
+  s.c = normalize(t.p2 - origin);
+  s.solid_angle = spherical_triangle_solid_angle(s.a, s.b, s.c);
+  if (!(s.solid_angle >= kMinSampledSolidAngle)) return std::nullopt;
+  // Interior angle at a: between the great-circle tangents towards b and c.
+  s.alpha = angle_between(orthogonal_part(s.b, s.a), orthogonal_part(s.c, s.a));
+  return s;
+}
+
+Vec3 SphericalTriangleSampler::sample(double u1, double u2) const {
+  // Arvo 1995: u1 picks the sub-triangle (a, b, ĉ) of area u1·Ω, which fixes ĉ
+  // on the arc ac; u2 then picks the point on the arc bĉ by its cosine to b.
+  const double area_hat = u1 * solid_angle;
+  const double s = std::sin(area_hat - alpha);
+  const double t = std::cos(area_hat - alpha);
+  const double cos_alpha = std::cos(alpha), sin_alpha = std::sin(alpha);
+  const double u = t - cos_alpha;
+  const double v = s + sin_alpha * dot(a, b);  // dot(a, b) = cos of the arc ab
+  const double q = std::clamp(((v * t - u * s) * cos_alpha - v) / ((v * s + u * t) * sin_alpha), -1.0, 1.0);
+  const Vec3 c_hat = a * q + orthogonal_part(c, a) * safe_sqrt((1.0 - q) * (1.0 + q));
+  const double z = 1.0 - u2 * (1.0 - dot(c_hat, b));
+  if (!(1.0 - z > 0)) return b;  // ĉ = b to working precision: the arc has zero length
+  return normalize(b * z + orthogonal_part(c_hat, b) * safe_sqrt((1.0 - z) * (1.0 + z)));
+}
+
+std::optional<SphericalRectangleSampler> SphericalRectangleSampler::make(const Rectangle& r, const Vec3& origin) {
+  const double len_u = length(r.edge_u), len_v = length(r.edge_v);
+  if (!(std::fabs(dot(r.edge_u, r.edge_v)) <= kPerpendicularTolerance * len_u * len_v)) return std::nullopt;
+  SphericalRectangleSampler s;
+  s.origin = origin;
+  s.x = r.edge_u / len_u;
+  s.y = r.edge_v / len_v;
+  s.z = r.normal();
+  const Vec3 d = r.corner - origin;
+  s.z0 = dot(d, s.z);
+  // One-sided light: the viewpoint must be strictly in front (z0 < 0 in this frame).
+  if (!(s.z0 < 0)) return std::nullopt;
+  s.x0 = dot(d, s.x);
+  s.y0 = dot(d, s.y);
+  s.x1 = s.x0 + len_u;
+  s.y1 = s.y0 + len_v;
+  // The four corners relative to origin and the normals of the great circles through adjacent pairs.
+  const Vec3 v00{s.x0, s.y0, s.z0}, v01{s.x0, s.y1, s.z0}, v10{s.x1, s.y0, s.z0}, v11{s.x1, s.y1, s.z0};
+  const Vec3 n0 = normalize(cross(v00, v10));
+  const Vec3 n1 = normalize(cross(v10, v11));
+  const Vec3 n2 = normalize(cross(v11, v01));
+  const Vec3 n3 = normalize(cross(v01, v00));
+  // Interior angles of the spherical quadrilateral: π minus the angle between adjacent normals.
+  const double g0 = angle_between(-n0, n1);
+  const double g1 = angle_between(-n1, n2);
+  const double g2 = angle_between(-n2, n3);
+  const double g3 = angle_between(-n3, n0);
+  s.b0 = n0.z;
+  s.b1 = n2.z;
+  s.k = kTwoPi - g2 - g3;
+  s.solid_angle = g0 + g1 - s.k;
+  if (!(s.solid_angle >= kMinSampledSolidAngle)) return std::nullopt;
+  return s;
+}
+
+Vec3 SphericalRectangleSampler::sample_point(double u1, double u2) const {
+  // Ureña et al. 2013: u1 picks the x coordinate by the area of the spherical
+  // sub-rectangle left of it; u2 picks y uniformly in the projected height h.
+  const double au = u1 * solid_angle + k;
+  const double fu = (std::cos(au) * b0 - b1) / std::sin(au);
+  const double cu = std::clamp(std::copysign(1.0, fu) / std::sqrt(fu * fu + b0 * b0), -1.0, 1.0);
+  const double xu = std::clamp(-(cu * z0) / safe_sqrt((1.0 - cu) * (1.0 + cu)), x0, x1);
+  const double dist = std::hypot(xu, z0);
+  const double h0 = y0 / std::hypot(dist, y0);
+  const double h1 = y1 / std::hypot(dist, y1);
+  const double hv = h0 + u2 * (h1 - h0);
+  const double one_minus_hv2 = (1.0 - hv) * (1.0 + hv);
+  const double yv = one_minus_hv2 > 0 ? std::clamp(hv * dist / std::sqrt(one_minus_hv2), y0, y1) : y1;
+  return origin + x * xu + y * yv + z * z0;
+}
+
+}  // namespace furnace
