@@ -46,9 +46,26 @@ Verdict run_case(const Case& c, double per_case_alpha) {
     sum_reference += reference[i];
     sum_variance_of_mean += variance / double(m.count);
     sum_sq_error += (m.mean - reference[i]) * (m.mean - reference[i]);
+    // Sample skewness G1 = (m3/n)/(m2/n)^1.5; undefined (and irrelevant) when s = 0.
+    if (m.m2 > 0) {
+      const double n = double(m.count);
+      const double skewness = (m.m3 / n) / std::pow(m.m2 / n, 1.5);
+      if (n < kCochranSkewnessFactor * skewness * skewness) {
+        ++v.pixels_untested;
+        continue;
+      }
+    }
     const stats::MeanTestResult t = stats::mean_test(m.count, m.mean, variance, reference[i], alpha_each);
     if (!t.pass) ++v.pixel_failures;
-    v.worst_pixel_t = std::max(v.worst_pixel_t, std::fabs(t.statistic));
+    const double badness = (!t.pass && t.zero_variance) ? HUGE_VAL : std::fabs(t.statistic);
+    if (badness > v.worst_pixel_t || i == 0) {
+      v.worst_pixel_t = badness;
+      v.worst_px = int(i % size_t(image.width));
+      v.worst_py = int(i / size_t(image.width));
+      v.worst_pixel_mean = m.mean;
+      v.worst_pixel_reference = reference[i];
+      v.worst_pixel_sample_variance = variance;
+    }
     if (reference[i] > 0 && std::isfinite(t.detectable_relative_bias))
       pixel_detectable.push_back(t.detectable_relative_bias);
   }
@@ -75,17 +92,21 @@ std::string format_table(const std::vector<Verdict>& verdicts, double family_alp
   out += fmt::format("family-wise alpha {} (Sidak over {} cases, each over its pixels + image mean); "
                      "detectable bias at power {}\n",
                      family_alpha, verdicts.size(), kReportedPower);
-  out += fmt::format("{:<16} {:<20} {:>6} {:>12} {:>12} {:>8} {:>7} {:>10} {:>10} {:>9} {:>8} {:>11}  {}\n", "scene",
-                     "strategy", "spp", "mean", "reference", "z", "z crit", "px fail", "detect", "px detect",
+  out += fmt::format("{:<16} {:<20} {:>6} {:>12} {:>12} {:>8} {:>7} {:>10} {:>7} {:>10} {:>9} {:>8} {:>11}  {}\n", "scene",
+                     "strategy", "spp", "mean", "reference", "z", "z crit", "px fail", "px skip", "detect", "px detect",
                      "time s", "Msamples/s", "verdict");
   for (const Verdict& v : verdicts) {
     std::string strategy = v.strategy;
     if (v.defect != "none") strategy += "+" + v.defect;
-    out += fmt::format("{:<16} {:<20} {:>6} {:>12.6g} {:>12.6g} {:>8.3f} {:>7.2f} {:>5}/{:<4} {:>9.3g}% {:>8.3g}% {:>8.3f} {:>11.3g}  {}\n",
+    out += fmt::format("{:<16} {:<20} {:>6} {:>12.6g} {:>12.6g} {:>8.3f} {:>7.2f} {:>5}/{:<4} {:>7} {:>9.3g}% {:>8.3g}% {:>8.3f} {:>11.3g}  {}\n",
                        v.scene, strategy, v.spp, v.image_mean, v.reference_mean, v.z, v.threshold,
-                       v.pixel_failures, v.pixels, 100 * v.detectable_rel_bias,
+                       v.pixel_failures, v.pixels, v.pixels_untested, 100 * v.detectable_rel_bias,
                        100 * v.median_pixel_detectable_rel_bias, v.seconds, v.samples_per_second / 1e6,
                        v.pass ? "pass" : "FAIL");
+    if (!v.pass)
+      out += fmt::format("    worst pixel ({}, {}): mean {:.6g}, reference {:.6g}, sample variance {:.3g}, |t| {:.3g}\n",
+                         v.worst_px, v.worst_py, v.worst_pixel_mean, v.worst_pixel_reference,
+                         v.worst_pixel_sample_variance, v.worst_pixel_t);
   }
   return out;
 }

@@ -20,6 +20,16 @@ inline constexpr double kDefaultFamilyAlpha = 0.01;
 // would catch with probability 1 − β. 0.9 is the usual design power.
 inline constexpr double kReportedPower = 0.9;
 
+// A pixel's t-test is only valid when its sample mean is close to normal.
+// For skewed estimators (a hemisphere sample that rarely hits a small light is
+// nearly Bernoulli with small p, skewness ≈ 1/√p) the normal approximation
+// needs N ≥ 25·G1² (Cochran 1977, "Sampling Techniques", §2.15; Boos & Hughes-
+// Oliver 2000). Pixels below that are not t-tested but counted and reported as
+// `px untested`; they still enter the image-mean test, whose mean over all
+// pixels is close to normal. A pixel whose samples are all equal (s = 0) is
+// never skipped: it must match its reference exactly.
+inline constexpr double kCochranSkewnessFactor = 25.0;
+
 struct Case {
   std::string scene_path;
   RenderOptions options;
@@ -40,7 +50,12 @@ struct Verdict {
   double detectable_rel_bias = 0;   // smallest relative bias of the image mean found with power kReportedPower
   // Per-pixel tests (each at the Šidák-corrected level).
   int pixel_failures = 0;
+  int pixels_untested = 0;          // too skewed for a valid t-test at this spp (kCochranSkewnessFactor)
   double worst_pixel_t = 0;
+  // The pixel with the largest |t| (a failing zero-variance pixel counts as
+  // infinite): where to look first when a case fails.
+  int worst_px = 0, worst_py = 0;
+  double worst_pixel_mean = 0, worst_pixel_reference = 0, worst_pixel_sample_variance = 0;
   double median_pixel_detectable_rel_bias = 0;
   double rmse = 0;                  // √(mean over pixels of (estimate − reference)²)
   uint64_t nonfinite_samples = 0;
