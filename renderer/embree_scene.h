@@ -73,6 +73,8 @@ class EmbreeScene {
   double spawn_offset(size_t object, const Vec3& point) const;
 
   const Scene& scene() const { return scene_; }
+  // The committed Embree scene, for raw-throughput benchmarks only.
+  RTCScene rtc_scene() const { return rtc_scene_; }
 
  private:
   SurfaceHit refine(size_t object, const Vec3& origin, const Vec3& direction, double t_float) const;
