@@ -83,6 +83,12 @@ class Reader {
     if (x < 0) fail(field, fmt::format("must be non-negative, got {}", x));
     return x;
   }
+  bool boolean_or(const std::string& field, bool fallback) const {
+    if (!has(field)) return fallback;
+    const json& v = j_.at(field);
+    if (!v.is_boolean()) fail(field, fmt::format("must be true or false, got {}", v.dump()));
+    return v.get<bool>();
+  }
   std::string string(const std::string& field) const {
     const json& v = require(field);
     if (!v.is_string()) fail(field, fmt::format("must be a string, got {}", v.dump()));
@@ -187,6 +193,7 @@ Scene parse_scene(const std::string& json_text, const std::string& source) {
   scene.source = source;
   scene.name = top.has("name") ? top.string("name") : std::filesystem::path(source).stem().string();
   scene.camera = parse_camera(top.object("camera"));
+  scene.closed = top.boolean_or("closed", false);
   if (top.has("environment")) scene.environment.radiance = top.object("environment").non_negative_or("radiance", 0.0);
   const json& objects = top.require("objects");
   if (!objects.is_array()) top.fail("objects", "must be an array");
@@ -199,6 +206,7 @@ Scene parse_scene(const std::string& json_text, const std::string& source) {
     obj.shape = parse_shape(o.object("shape"));
     if (o.has("material")) obj.material = parse_material(o.object("material"));
     obj.emitted_radiance = o.non_negative_or("emission", 0.0);
+    obj.two_sided = o.boolean_or("two_sided", false);
     scene.objects.push_back(std::move(obj));
   }
   return scene;

@@ -60,6 +60,9 @@ struct Object {
   // Uniform Lambertian emission Le, radiance leaving the front side only
   // (a sphere's front is its outside). 0 for non-emitters.
   double emitted_radiance = 0;
+  // Emits (and is meant to be seen) on both sides: the walls and interior
+  // blockers of a closed enclosure, a sphere light seen from inside.
+  bool two_sided = false;
   bool is_emitter() const { return emitted_radiance > 0; }
 };
 
@@ -89,6 +92,10 @@ struct Scene {
   Camera camera;
   std::vector<Object> objects;
   Environment environment;
+  // The author's statement that the objects bound a closed enclosure around
+  // the camera (no ray from inside escapes). Needed by the uniform-enclosure
+  // closed form Le/(1−ρ), which cannot check closure itself.
+  bool closed = false;
 };
 
 // Parses a scene file. Throws furnace::Error with a sentence naming the file,
