@@ -1,0 +1,163 @@
+#include "analytic/global.h"
+
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "analytic/reference.h"
+#include "core/error.h"
+
+namespace furnace::analytic {
+
+double uniform_enclosure_radiance(double emitted_radiance, double albedo, int max_segments) {
+  FURNACE_CHECK(albedo >= 0 && albedo <= 1 && max_segments >= 1);
+  if (max_segments == kUnlimitedSegments) {
+    FURNACE_CHECK(albedo < 1);
+    return emitted_radiance / (1.0 - albedo);
+  }
+  if (albedo == 1) return emitted_radiance * max_segments;
+  if (albedo == 0) return emitted_radiance;
+  // 1 − ρ^k = −expm1(k·ln ρ): no cancellation when ρ^k is close to 1.
+  return emitted_radiance * -std::expm1(double(max_segments) * std::log(albedo)) / (1.0 - albedo);
+}
+
+double convex_furnace_radiance(double environment_radiance, double albedo, int max_segments) {
+  FURNACE_CHECK(albedo >= 0 && albedo <= 1 && max_segments >= 1);
+  return max_segments >= 2 ? albedo * environment_radiance : 0.0;
+}
+
+namespace {
+
+[[noreturn]] void no_closed_form(const Scene& scene, const std::string& reason) {
+  throw Error(fmt::format("scene '{}' ({}) has no closed-form global-illumination answer: {}.", scene.name,
+                          scene.source, reason));
+}
+
+bool is_planar(const Shape& s) { return !std::holds_alternative<Sphere>(s); }
+bool is_mirror(const Object& o) { return o.material.type == BsdfType::kMirror; }
+
+enum class Kind { kEnclosure, kFurnace, kDirectOnly };
+
+struct Classification {
+  Kind kind;
+  double albedo = 0;
+  double emitted_radiance = 0;
+};
+
+// Decides which closed form covers the non-mirror objects of the scene.
+Classification classify(const Scene& scene, int max_segments) {
+  std::optional<double> albedo, emission;
+  bool uniform = true;
+  int reflecting = 0, non_mirror = 0;
+  bool reflecting_planar = true;
+  for (const Object& o : scene.objects) {
+    if (is_mirror(o)) {
+      if (o.is_emitter()) no_closed_form(scene, fmt::format("mirror '{}' also emits", o.name));
+      continue;
+    }
+    if (o.material.type != BsdfType::kLambertian)
+      no_closed_form(scene, fmt::format("object '{}' is neither Lambertian nor a mirror", o.name));
+    ++non_mirror;
+    if (!albedo) albedo = o.material.albedo, emission = o.emitted_radiance;
+    uniform = uniform && o.material.albedo == *albedo && o.emitted_radiance == *emission;
+    if (o.material.albedo > 0) {
+      ++reflecting;
+      reflecting_planar = reflecting_planar && is_planar(o.shape);
+    }
+  }
+  if (scene.closed) {
+    if (scene.environment.radiance > 0) no_closed_form(scene, "it is closed but has an environment");
+    if (!uniform || non_mirror == 0)
+      no_closed_form(scene, "a closed enclosure needs one albedo and one emission on every object");
+    if (*albedo >= 1 && max_segments == kUnlimitedSegments)
+      no_closed_form(scene, "a closed enclosure of albedo 1 has infinite radiance at unlimited depth");
+    for (const Object& o : scene.objects)
+      if (o.is_emitter() && !o.two_sided && !is_planar(o.shape))
+        no_closed_form(scene, fmt::format("sphere '{}' emits outward only, not into the enclosure (set two_sided)",
+                                          o.name));
+    return {Kind::kEnclosure, *albedo, *emission};
+  }
+  bool any_emitter = false;
+  for (const Object& o : scene.objects) any_emitter = any_emitter || o.is_emitter();
+  if (scene.environment.radiance > 0 && !any_emitter) {
+    if (!uniform) no_closed_form(scene, "a furnace needs one albedo on every object");
+    const double rho = albedo.value_or(0);
+    const bool single_convex = non_mirror <= 1;
+    if (single_convex) return {Kind::kFurnace, rho, 0};
+    if (rho == 1 && max_segments == kUnlimitedSegments) return {Kind::kFurnace, rho, 0};
+    no_closed_form(scene, "a furnace with several objects is exact only for albedo 1 at unlimited depth");
+  }
+  if (reflecting <= 1 && reflecting_planar) return {Kind::kDirectOnly, 0, 0};
+  no_closed_form(scene, "more than one reflecting object (or a reflecting sphere) under direct light");
+}
+
+// Radiance leaving a non-mirror hit towards the viewer.
+double leaving_radiance(const Scene& scene, const Classification& c, const Hit& hit, const Vec3& direction,
+                        int segments_left) {
+  const Object& o = scene.objects[hit.object_index];
+  const bool front = dot(direction, hit.normal) < 0;
+  switch (c.kind) {
+    case Kind::kEnclosure:
+      return uniform_enclosure_radiance(c.emitted_radiance, c.albedo, segments_left);
+    case Kind::kFurnace: {
+      const bool white_unlimited = c.albedo == 1 && segments_left == kUnlimitedSegments;
+      return white_unlimited ? scene.environment.radiance
+                             : convex_furnace_radiance(scene.environment.radiance, c.albedo, segments_left);
+    }
+    case Kind::kDirectOnly: {
+      const double le = (front || o.two_sided) ? o.emitted_radiance : 0.0;
+      if (segments_left < 2 || o.material.albedo == 0) return le;
+      const Vec3 n = front ? hit.normal : -hit.normal;
+      return le + o.material.albedo * kInvPi * irradiance(scene, hit.point, n, hit.object_index);
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+std::vector<double> global_reference_image(const Scene& scene, int max_segments) {
+  if (max_segments < 1) throw Error(fmt::format("max_segments must be at least 1, got {}.", max_segments));
+  const Classification c = classify(scene, max_segments);
+  const Camera& camera = scene.camera;
+  std::vector<double> image(size_t(camera.width_px) * size_t(camera.height_px));
+  // A chain of mirrors longer than this is a scene error (two parallel mirrors).
+  constexpr int kMaxMirrorChain = 64;
+  for (int py = 0; py < camera.height_px; ++py) {
+    for (int px = 0; px < camera.width_px; ++px) {
+      Camera::Ray ray = camera.pixel_center_ray(px, py);
+      double throughput = 1;
+      int segments_left = max_segments;
+      double value = 0;
+      double t_min = 0;
+      for (int chain = 0;; ++chain) {
+        if (chain > kMaxMirrorChain) no_closed_form(scene, "a camera ray is trapped between mirrors");
+        const std::optional<Hit> hit = intersect(scene, ray.origin, ray.direction, t_min);
+        if (!hit) {
+          value = throughput * scene.environment.radiance;
+          break;
+        }
+        const Object& o = scene.objects[hit->object_index];
+        if (!is_mirror(o)) {
+          value = throughput * leaving_radiance(scene, c, *hit, ray.direction, segments_left);
+          break;
+        }
+        // Perfect mirror: one deterministic continuation, reflectance ρ_m.
+        if (segments_left != kUnlimitedSegments && --segments_left < 1) break;
+        throughput *= o.material.albedo;
+        const Vec3 n = hit->normal;
+        const Vec3 reflected = ray.direction - n * (2 * dot(ray.direction, n));
+        ray = {hit->point, normalize(reflected)};
+        // Relative offset against self-intersection: the reflected ray leaves
+        // the mirror's plane, so a tiny t scaled by the point's magnitude is safe.
+        t_min = 1e-9 * std::fmax(1.0, max_abs_component(hit->point));
+      }
+      image[size_t(py) * camera.width_px + px] = value;
+    }
+  }
+  return image;
+}
+
+}  // namespace furnace::analytic
