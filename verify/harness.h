@@ -68,8 +68,16 @@ struct Verdict {
 // P + 1 tests (P pixel tests and the image-mean test).
 Verdict run_case(const Case& c, double per_case_alpha);
 
-// The scenes `furnace verify` uses when none are given (the built-in suite).
-std::vector<std::string> default_scene_paths();
+// The built-in suite `furnace verify` runs when no scene is given: each
+// built-in scene with the strategies whose reference it has (direct-lighting
+// strategies against analytic::reference_image, path tracers against
+// analytic::global_reference_image), at `spp` samples per pixel.
+std::vector<Case> default_suite(int spp, uint64_t seed, int threads);
+
+// The reference a case's render must converge to, per pixel centre.
+std::vector<double> reference_for(const Scene& scene, const RenderOptions& options);
+
+std::string scene_dir();
 
 // Formats the verdict table.
 std::string format_table(const std::vector<Verdict>& verdicts, double family_alpha);

@@ -1,6 +1,9 @@
 // The `furnace` command line: render, verify (the default verification run).
 // Every user error is one sentence on stderr and a non-zero exit.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -37,11 +40,20 @@ int run_render(const std::string& scene_path, const std::string& strategy, const
 }
 
 int run_verify(std::vector<std::string> scenes, std::vector<std::string> strategies, const std::string& defect,
-               int spp, uint64_t seed, int threads, double alpha) {
-  if (scenes.empty()) scenes = verify::default_scene_paths();
-  if (strategies.empty())
-    for (Strategy s : all_strategies()) strategies.push_back(strategy_name(s));
+               int spp, uint64_t seed, int threads, double alpha, int max_depth) {
   std::vector<verify::Case> cases;
+  if (scenes.empty()) {
+    for (verify::Case c : verify::default_suite(spp, seed, threads)) {
+      c.options.defect = parse_defect(defect);
+      const bool selected = strategies.empty() ||
+                            std::find(strategies.begin(), strategies.end(), strategy_name(c.options.strategy)) !=
+                                strategies.end();
+      if (selected) cases.push_back(c);
+    }
+    for (const std::string& name : strategies) parse_strategy(name);  // reject unknown names
+  }
+  if (!scenes.empty() && strategies.empty())
+    for (Strategy s : all_strategies()) strategies.push_back(strategy_name(s));
   for (const std::string& path : scenes) {
     load_scene(path);  // fail fast on a bad file, before any rendering
     for (const std::string& name : strategies) {
@@ -52,10 +64,12 @@ int run_verify(std::vector<std::string> scenes, std::vector<std::string> strateg
       c.options.spp = spp;
       c.options.seed = seed;
       c.options.threads = threads;
+      c.options.max_depth = max_depth;
       cases.push_back(c);
     }
   }
   // Šidák: the cases share the family-wise α equally.
+  if (cases.empty()) throw Error("no verification case matches the given --scene and --strategy options.");
   const double per_case_alpha = -std::expm1(std::log1p(-alpha) / double(cases.size()));
   std::vector<verify::Verdict> verdicts;
   for (const verify::Case& c : cases) verdicts.push_back(verify::run_case(c, per_case_alpha));
@@ -89,6 +103,7 @@ int main(int argc, char** argv) {
   int v_spp = 1024, v_threads = 0;
   uint64_t v_seed = 20261125;
   double v_alpha = verify::kDefaultFamilyAlpha;
+  int v_max_depth = std::numeric_limits<int>::max();
   auto* verify_cmd = app.add_subcommand("verify", "Render the analytic scenes and test them against their exact references");
   verify_cmd->add_option("--scene", v_scenes, "Scene file(s); default: the built-in suite");
   verify_cmd->add_option("--strategy", v_strategies, "Strategy name(s); default: all");
@@ -98,6 +113,8 @@ int main(int argc, char** argv) {
   verify_cmd->add_option("--threads", v_threads, "Worker threads (0: all)")->capture_default_str()->check(CLI::Range(0, 1024));
   verify_cmd->add_option("--alpha", v_alpha, "Family-wise false-alarm probability of the whole run")
       ->capture_default_str()->check(CLI::Range(1e-12, 0.5));
+  verify_cmd->add_option("--max-depth", v_max_depth, "Path tracers with --scene: longest path in segments (default unlimited)")
+      ->check(CLI::Range(1, std::numeric_limits<int>::max()));
 
   try {
     app.parse(argc, argv);
@@ -106,7 +123,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (*render_cmd) return run_render(scene_path, strategy, defect, spp, seed, threads, output);
-    if (*verify_cmd) return run_verify(v_scenes, v_strategies, v_defect, v_spp, v_seed, v_threads, v_alpha);
+    if (*verify_cmd) return run_verify(v_scenes, v_strategies, v_defect, v_spp, v_seed, v_threads, v_alpha, v_max_depth);
   } catch (const furnace::Error& e) {
     std::fprintf(stderr, "furnace: error: %s\n", e.what());
     return 2;
