@@ -22,7 +22,7 @@ namespace {
 using namespace furnace;
 
 int run_render(const std::string& scene_path, const std::string& strategy, const std::string& defect,
-               int spp, uint64_t seed, int threads, const std::string& output) {
+               int spp, uint64_t seed, int threads, int max_depth, int roulette_depth, const std::string& output) {
   const Scene scene = load_scene(scene_path);
   RenderOptions options;
   options.strategy = parse_strategy(strategy);
@@ -30,6 +30,8 @@ int run_render(const std::string& scene_path, const std::string& strategy, const
   options.spp = spp;
   options.seed = seed;
   options.threads = threads;
+  options.max_depth = max_depth;
+  options.roulette_depth = roulette_depth;
   const Image image = render(scene, options);
   write_exr(output, image);
   const double samples = double(image.width) * image.height * spp;
@@ -97,6 +99,11 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--seed", seed, "Random seed")->capture_default_str();
   render_cmd->add_option("--threads", threads, "Worker threads (0: all)")->capture_default_str()->check(CLI::Range(0, 1024));
   render_cmd->add_option("--output,-o", output, "Output EXR path")->capture_default_str();
+  int max_depth = std::numeric_limits<int>::max(), roulette_depth = 3;
+  render_cmd->add_option("--max-depth", max_depth, "Path tracers: longest path in segments (default unlimited)")
+      ->check(CLI::Range(1, std::numeric_limits<int>::max()));
+  render_cmd->add_option("--roulette-depth", roulette_depth, "Path tracers: depth at which Russian roulette starts")
+      ->capture_default_str()->check(CLI::Range(1, std::numeric_limits<int>::max()));
 
   std::vector<std::string> v_scenes, v_strategies;
   std::string v_defect = "none";
@@ -122,7 +129,7 @@ int main(int argc, char** argv) {
     return app.exit(e);
   }
   try {
-    if (*render_cmd) return run_render(scene_path, strategy, defect, spp, seed, threads, output);
+    if (*render_cmd) return run_render(scene_path, strategy, defect, spp, seed, threads, max_depth, roulette_depth, output);
     if (*verify_cmd) return run_verify(v_scenes, v_strategies, v_defect, v_spp, v_seed, v_threads, v_alpha, v_max_depth);
   } catch (const furnace::Error& e) {
     std::fprintf(stderr, "furnace: error: %s\n", e.what());
