@@ -1,5 +1,7 @@
 #include "analytic/circle_region.h"
 
+#include <boost/math/quadrature/gauss_kronrod.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -118,6 +120,23 @@ double occluded_disk_irradiance(double h, const Circle2& light, const std::vecto
   // Round-off on arcs that nearly cancel can leave a tiny negative; the true
   // integral of a positive kernel over a region is ≥ 0.
   return std::fmax(sum, 0.0);
+}
+
+double contour_quadrature(const std::vector<Arc>& arcs, const std::function<double(double)>& g_over_s2) {
+  using boost::math::quadrature::gauss_kronrod;
+  double sum = 0;
+  for (const Arc& arc : arcs) {
+    const Circle2& c = arc.circle;
+    auto integrand = [&](double t) {
+      const double ct = std::cos(t), st = std::sin(t);
+      const double x = c.cx + c.radius * ct, y = c.cy + c.radius * st;
+      return g_over_s2(x * x + y * y) * c.radius * (c.radius + c.cx * ct + c.cy * st);
+    };
+    const double lo = std::fmin(arc.t0, arc.t0 + arc.sweep), hi = std::fmax(arc.t0, arc.t0 + arc.sweep);
+    const double value = gauss_kronrod<double, 61>::integrate(integrand, lo, hi, 15, 1e-14);
+    sum += arc.sweep >= 0 ? value : -value;
+  }
+  return sum;
 }
 
 }  // namespace furnace::analytic

@@ -3,6 +3,7 @@
 // Boolean "light minus union of occluder images" for circles only).
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "analytic/disk.h"
@@ -39,5 +40,15 @@ std::vector<Arc> visible_boundary(const Circle2& light, const std::vector<Circle
 // Returns exactly 0 when the occluders cover the light (no arcs survive).
 // With no occluder it returns disk_irradiance_parallel exactly.
 double occluded_disk_irradiance(double h, const Circle2& light, const std::vector<Circle2>& occluders);
+
+// ∫_A f(s) dA over the region bounded by `arcs`, for any radial density f
+// about the origin (the foot point), by the same Green's-theorem step as
+// arc_contour: ∫_A f dA = ∮ G(s) dφ with G(s) = ∫₀^s f(s')·s' ds'. The caller
+// passes G(s)/s² as a function of s² (finite at s = 0, so arcs through the
+// foot point are harmless); along an arc, s²·dφ = r·(r + cx cos t + cy sin t) dt.
+// Each arc is integrated by adaptive Gauss–Kronrod (61 points, relative
+// tolerance 1e-14 of the arc's |integrand| integral, depth ≤ 15).
+// Returns exactly 0 for an empty boundary.
+double contour_quadrature(const std::vector<Arc>& arcs, const std::function<double(double)>& g_over_s2);
 
 }  // namespace furnace::analytic
