@@ -230,11 +230,18 @@ SurfaceHit EmbreeScene::refine(size_t object, const Vec3& origin, const Vec3& di
     hit.point -= n * dot(hit.point - *q, n);  // remove the last rounding off the plane
     hit.normal = n;
   } else {
-    // Sphere: project the float hit radially onto the exact sphere.
+    // Sphere: both roots in double precision (the discriminant as
+    // r² − |oc − (oc·d)d|², which does not cancel), keeping the one Embree
+    // found; then a radial projection removes the last rounding off the sphere.
     const Sphere& s = std::get<Sphere>(shape);
-    const Vec3 n = normalize(origin + direction * t_float - s.center);
+    const Vec3 oc = origin - s.center;
+    const double b = dot(oc, direction);
+    const double disc = s.radius * s.radius - length_squared(oc - direction * b);
+    const double root = std::sqrt(std::fmax(disc, 0.0));  // grazing hits: round-off below 0
+    const double t_near = -b - root, t_far = -b + root;
+    hit.t = std::fabs(t_near - t_float) <= std::fabs(t_far - t_float) ? t_near : t_far;
+    const Vec3 n = normalize(origin + direction * hit.t - s.center);
     hit.point = s.center + n * s.radius;
-    hit.t = dot(hit.point - origin, direction);
     hit.normal = n;
   }
   hit.front_facing = dot(direction, hit.normal) < 0;

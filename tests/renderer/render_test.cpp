@@ -1,0 +1,276 @@
+// render(): bit-identical images across thread counts and runs, distinct
+// images for distinct seeds, exact furnace scenes (zero variance where the
+// sampling is exact), Russian roulette's 1/p reweighting, the moment
+// accumulator, names and errors.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+
+#include "core/error.h"
+#include "renderer/render.h"
+#include "test_support.h"
+
+namespace furnace {
+namespace {
+
+using testing_support::make_camera;
+using testing_support::make_floor;
+using testing_support::make_object;
+using testing_support::Welford;
+
+constexpr uint64_t kSeed = 0x0e2d;
+
+std::string camel(const std::string& snake) {
+  std::string out;
+  bool upper = true;
+  for (char c : snake) {
+    if (c == '_') { upper = true; continue; }
+    out += upper ? char(std::toupper(c)) : c;
+    upper = false;
+  }
+  return out;
+}
+
+std::vector<Strategy> every_strategy() {
+  std::vector<Strategy> s = all_strategies();
+  for (Strategy p : path_tracing_strategies()) s.push_back(p);
+  return s;
+}
+
+std::string strategy_param_name(const testing::TestParamInfo<Strategy>& info) {
+  return camel(strategy_name(info.param));
+}
+
+Scene default_scene() { return load_scene(std::string(FURNACE_SCENE_DIR) + "/disk_occluder.json"); }
+
+bool bitwise_equal(const Image& a, const Image& b) {
+  if (a.pixels.size() != b.pixels.size()) return false;
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
+    const PixelMoments &x = a.pixels[i], &y = b.pixels[i];
+    if (x.count != y.count || std::memcmp(&x.mean, &y.mean, sizeof(double)) != 0 ||
+        std::memcmp(&x.m2, &y.m2, sizeof(double)) != 0 || std::memcmp(&x.m3, &y.m3, sizeof(double)) != 0 ||
+        std::memcmp(&x.m4, &y.m4, sizeof(double)) != 0)
+      return false;
+  }
+  return a.rays == b.rays && a.nonfinite_samples == b.nonfinite_samples;
+}
+
+class EveryStrategy : public testing::TestWithParam<Strategy> {};
+
+TEST_P(EveryStrategy, ImageIsIdenticalForOneAndTwoThreadsAndAcrossRuns) {
+  const Scene scene = default_scene();
+  RenderOptions o;
+  o.strategy = GetParam();
+  o.spp = 8;
+  o.seed = kSeed;
+  o.threads = 1;
+  const Image one = render(scene, o);
+  o.threads = 2;
+  const Image two = render(scene, o);
+  const Image again = render(scene, o);
+  EXPECT_TRUE(bitwise_equal(one, two));
+  EXPECT_TRUE(bitwise_equal(two, again));
+  EXPECT_EQ(one.nonfinite_samples, 0u);
+  EXPECT_GT(one.rays, uint64_t(one.width) * one.height);
+}
+
+TEST_P(EveryStrategy, DifferentSeedsGiveDifferentImages) {
+  const Scene scene = default_scene();
+  RenderOptions o;
+  o.strategy = GetParam();
+  o.spp = 4;
+  o.seed = kSeed;
+  const Image a = render(scene, o);
+  o.seed = kSeed + 1;
+  const Image b = render(scene, o);
+  EXPECT_FALSE(bitwise_equal(a, b));
+}
+
+// White furnace: a Lambertian floor under a constant environment L (nothing
+// else). Every camera ray sees ρ·L exactly; a strategy that samples the cosine
+// (or the environment by its cosine density, or MIS of two such) returns ρ·L
+// in every sample, so the per-pixel variance is zero up to round-off.
+TEST_P(EveryStrategy, FurnaceFloorGivesRhoTimesEnvironment) {
+  constexpr double kRho = 0.6, kEnvironment = 2.5;
+  Scene scene;
+  scene.name = "furnace_floor";
+  scene.camera = make_camera(4);
+  scene.objects.push_back(make_floor(kRho));
+  scene.environment.radiance = kEnvironment;
+  RenderOptions o;
+  o.strategy = GetParam();
+  o.spp = 256;
+  o.seed = kSeed;
+  const Image image = render(scene, o);
+  const double expected = kRho * kEnvironment;
+  const bool exact = GetParam() != Strategy::kUniformHemisphere;
+  for (const PixelMoments& p : image.pixels) {
+    if (exact) {
+      EXPECT_NEAR(p.mean / expected, 1.0, 1e-14);
+      EXPECT_LE(p.sample_variance(), 1e-28);
+    } else {
+      Welford w;  // the pixel's own mean and variance as a z-test
+      w.n = double(p.count);
+      w.mean = p.mean;
+      w.m2 = p.m2;
+      EXPECT_TRUE(testing_support::mean_consistent(w, expected)) << p.mean;
+      EXPECT_GT(p.sample_variance(), 0.0);
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Strategies, EveryStrategy, testing::ValuesIn(every_strategy()), strategy_param_name);
+
+// A convex Lambertian sphere in a constant environment: no interreflection,
+// so every path tracer pixel on it is ρ·L, exactly for each sample without
+// Russian roulette.
+Scene furnace_sphere(double rho, double environment) {
+  Scene scene;
+  scene.name = "furnace_sphere";
+  scene.camera = make_camera(6);
+  scene.camera.center = {0, 0, 3};
+  scene.objects.push_back(make_object("ball", Sphere{{0, 0, 0}, 0.9}, rho));
+  scene.environment.radiance = environment;
+  return scene;
+}
+
+class PathTracerTest : public testing::TestWithParam<Strategy> {};
+
+TEST_P(PathTracerTest, ConvexFurnaceSphereIsExact) {
+  const Scene scene = furnace_sphere(0.7, 1.5);
+  RenderOptions o;
+  o.strategy = GetParam();
+  o.spp = 64;
+  o.roulette_depth = 1000;  // roulette off: the estimator is exact per sample
+  const Image image = render(scene, o);
+  for (const PixelMoments& p : image.pixels) {
+    const bool sees_ball = std::fabs(p.mean - 1.5) > 1e-9;  // background pixels see L itself
+    if (sees_ball) EXPECT_NEAR(p.mean / (0.7 * 1.5), 1.0, 1e-13);
+    EXPECT_LE(p.sample_variance(), 1e-26);
+  }
+}
+
+TEST_P(PathTracerTest, RussianRouletteIsUnbiased) {
+  // Roulette from the first bounce: survivors carry throughput 1 (ρ/ρ), so each
+  // sample is L or 0 and only the mean stays ρ·L. The image-wide z-test uses
+  // the pixels' own variances.
+  constexpr double kRho = 0.7, kEnvironment = 1.5;
+  const Scene scene = furnace_sphere(kRho, kEnvironment);
+  RenderOptions o;
+  o.strategy = GetParam();
+  o.spp = 512;
+  o.seed = kSeed;
+  o.roulette_depth = 1;
+  const Image image = render(scene, o);
+  double sum = 0, variance_of_sum = 0;
+  int n = 0;
+  for (const PixelMoments& p : image.pixels) {
+    if (p.sample_variance() == 0) continue;  // background
+    sum += p.mean;
+    variance_of_sum += p.sample_variance() / double(p.count);
+    ++n;
+  }
+  ASSERT_GT(n, 10);
+  const double mean = sum / n, se = std::sqrt(variance_of_sum) / n;
+  EXPECT_LE(std::fabs(mean - kRho * kEnvironment), testing_support::z_critical(testing_support::kAlpha) * se)
+      << mean << " ± " << se;
+}
+
+TEST_P(PathTracerTest, MaxDepthOneSeesOnlyEmission) {
+  const Scene scene = furnace_sphere(0.7, 1.5);
+  RenderOptions o;
+  o.strategy = GetParam();
+  o.spp = 4;
+  o.max_depth = 1;
+  const Image image = render(scene, o);
+  for (const PixelMoments& p : image.pixels) EXPECT_TRUE(p.mean == 0.0 || p.mean == 1.5) << p.mean;
+}
+
+INSTANTIATE_TEST_SUITE_P(PathTracers, PathTracerTest, testing::ValuesIn(path_tracing_strategies()),
+                         strategy_param_name);
+
+TEST(PathTracer, MirrorReflectsTheLight) {
+  // A mirror floor under an emitting disk facing down: the camera looking down
+  // at the mirror sees, reflected, the disk's emission Le·R where the mirror
+  // image of the disk covers the pixel, 0 elsewhere; exact per sample.
+  Scene scene;
+  scene.camera = make_camera(8);
+  scene.objects.push_back(make_object("mirror", Rectangle{{-4, -4, 0}, {8, 0, 0}, {0, 8, 0}}, 0.8, 0,
+                                      BsdfType::kMirror));
+  scene.objects.push_back(make_object("light", Disk{{0, 0, 2}, {0, 0, -1}, 0.5}, 0, 5.0));
+  for (Strategy s : path_tracing_strategies()) {
+    RenderOptions o;
+    o.strategy = s;
+    o.spp = 16;
+    const Image image = render(scene, o);
+    // The camera plane (z = 0.5) lies below the light: the centre pixels see
+    // the disk's mirror image, the corner pixels (|x| = 0.875) do not.
+    EXPECT_NEAR(image.at(3, 3).mean, 0.8 * 5.0, 1e-12) << strategy_name(s);
+    EXPECT_EQ(image.at(0, 0).mean, 0.0) << strategy_name(s);
+  }
+}
+
+TEST(PixelMoments, MatchTwoPassMoments) {
+  const double ys[] = {0.3, 1.7, -2.2, 0.0, 5.5, 1.25, 3.0, -0.75, 2.0, 0.1};
+  PixelMoments m;
+  double sum = 0;
+  for (double y : ys) {
+    m.add(y);
+    sum += y;
+  }
+  const double n = std::size(ys), mean = sum / n;
+  double m2 = 0, m3 = 0, m4 = 0;
+  for (double y : ys) {
+    const double d = y - mean;
+    m2 += d * d;
+    m3 += d * d * d;
+    m4 += d * d * d * d;
+  }
+  EXPECT_EQ(m.count, std::size(ys));
+  EXPECT_NEAR(m.mean, mean, 1e-14);
+  EXPECT_NEAR(m.m2 / m2, 1.0, 1e-13);
+  EXPECT_NEAR(m.m3 / m3, 1.0, 1e-12);
+  EXPECT_NEAR(m.m4 / m4, 1.0, 1e-13);
+  EXPECT_NEAR(m.sample_variance(), m2 / (n - 1), 1e-13);
+}
+
+TEST(Names, RoundTripAndErrorsNameTheValue) {
+  for (Strategy s : every_strategy()) EXPECT_EQ(parse_strategy(strategy_name(s)), s);
+  for (Defect d : {Defect::kNone, Defect::kDropLightCosine, Defect::kPdfOffByConstant, Defect::kSkipShadowRay})
+    EXPECT_EQ(parse_defect(defect_name(d)), d);
+  try {
+    parse_strategy("uniform_hemisphre");
+    FAIL() << "no exception";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("'uniform_hemisphre'"), std::string::npos) << what;
+    EXPECT_NE(what.find("uniform_hemisphere, cosine_hemisphere, light_area"), std::string::npos) << what;
+  }
+  EXPECT_THROW(parse_defect("skip_shadow"), Error);
+}
+
+TEST(Render, RejectsBadOptionsAndLightlessScenes) {
+  const Scene scene = default_scene();
+  RenderOptions o;
+  o.spp = 0;
+  try {
+    render(scene, o);
+    FAIL() << "no exception";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("spp"), std::string::npos);
+  }
+  Scene dark;
+  dark.name = "dark";
+  dark.camera = make_camera(2);
+  dark.objects.push_back(make_floor(0.5));
+  RenderOptions light;
+  light.strategy = Strategy::kLightArea;
+  EXPECT_THROW(render(dark, light), Error);
+  light.strategy = Strategy::kCosineHemisphere;  // nothing to sample, nothing wrong: a black image
+  const Image black = render(dark, light);
+  for (const PixelMoments& p : black.pixels) EXPECT_EQ(p.mean, 0.0);
+}
+
+}  // namespace
+}  // namespace furnace
