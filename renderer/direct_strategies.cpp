@@ -36,8 +36,19 @@ struct ConeSetup {
 };
 using EmitterMethod = std::variant<std::monostate, ConeSetup, SphericalTriangleSampler, SphericalRectangleSampler>;
 
-EmitterMethod emitter_method(const Shape& shape, const Vec3& p, EmitterSampling mode) {
-  if (mode == EmitterSampling::kArea) return std::monostate{};
+// cos θ' at a light point: signed for one-sided lights (the back has no
+// emission, so no density), absolute for two-sided ones.
+double light_cosine(const Vec3& light_normal, const Vec3& wi, bool two_sided) {
+  const double c = dot(light_normal, -wi);
+  return two_sided ? std::fabs(c) : c;
+}
+
+// `self`: the shading point lies on this emitter. A sphere cannot use its cone
+// from its own surface (only a two-sided sphere seen from inside sees itself,
+// and area sampling covers that).
+EmitterMethod emitter_method(const Object& emitter, const Vec3& p, EmitterSampling mode, bool self) {
+  const Shape& shape = emitter.shape;
+  if (mode == EmitterSampling::kArea || self) return std::monostate{};
   if (const auto* s = std::get_if<Sphere>(&shape)) {
     const Vec3 to_center = s->center - p;
     const double d2 = length_squared(to_center);
@@ -45,12 +56,16 @@ EmitterMethod emitter_method(const Shape& shape, const Vec3& p, EmitterSampling 
     if (!(d2 > r2)) return std::monostate{};  // inside or on the sphere: no cone, area sampling
     return ConeSetup{Frame::from_normal(to_center / std::sqrt(d2)), ConeAperture::from_sin2(r2 / d2)};
   }
+  // A two-sided planar light seen from behind is sampled as its mirror-oriented twin.
   if (const auto* t = std::get_if<Triangle>(&shape)) {
-    if (auto sampler = SphericalTriangleSampler::make(*t, p)) return *sampler;
+    const bool flip = emitter.two_sided && dot(p - t->p0, t->normal()) < 0;
+    if (auto sampler = SphericalTriangleSampler::make(flip ? Triangle{t->p0, t->p2, t->p1} : *t, p)) return *sampler;
     return std::monostate{};
   }
   if (const auto* r = std::get_if<Rectangle>(&shape)) {
-    if (auto sampler = SphericalRectangleSampler::make(*r, p)) return *sampler;
+    const bool flip = emitter.two_sided && dot(p - r->corner, r->normal()) < 0;
+    if (auto sampler = SphericalRectangleSampler::make(flip ? Rectangle{r->corner, r->edge_v, r->edge_u} : *r, p))
+      return *sampler;
     return std::monostate{};
   }
   return std::monostate{};  // disks: no exact solid-angle map is used; area sampling
@@ -59,12 +74,13 @@ EmitterMethod emitter_method(const Shape& shape, const Vec3& p, EmitterSampling 
 // Density in solid angle of direction wi from p reaching the emitter at
 // (point, normal), under `method`, excluding the light selection pmf.
 // The one helper both LightStrategy::sample and LightStrategy::pdf use.
-double emitter_pdf_solid_angle(const EmitterMethod& method, const Shape& shape, const Vec3& p, const Vec3& wi,
+double emitter_pdf_solid_angle(const EmitterMethod& method, const Object& emitter, const Vec3& p, const Vec3& wi,
                                const Vec3& point, const Vec3& normal) {
+  const double cos_light = light_cosine(normal, wi, emitter.two_sided);
   if (std::holds_alternative<std::monostate>(method)) {
-    return solid_angle_pdf_from_area(shape_area_pdf(shape), length_squared(point - p), dot(normal, -wi));
+    return solid_angle_pdf_from_area(shape_area_pdf(emitter.shape), length_squared(point - p), cos_light);
   }
-  if (!(dot(normal, -wi) > 0)) return 0.0;  // one-sided: the back of the light has no density
+  if (!(cos_light > 0)) return 0.0;  // one-sided: the back of the light has no density
   if (const auto* cone = std::get_if<ConeSetup>(&method))
     return uniform_cone_pdf(cone->frame.local_from_world(wi), cone->aperture);
   if (const auto* tri = std::get_if<SphericalTriangleSampler>(&method)) return tri->pdf();
@@ -175,19 +191,22 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
   } else {
     const size_t object = lights->emitters[light];
     const Object& emitter = scene->scene().objects[object];
-    const EmitterMethod method = emitter_method(emitter.shape, ctx.point, emitter_sampling);
+    const bool self = object == ctx.object;
+    // A flat light cannot light its own points (they see it edge-on).
+    if (self && !std::holds_alternative<Sphere>(emitter.shape)) return std::nullopt;
+    const EmitterMethod method = emitter_method(emitter, ctx.point, emitter_sampling, self);
     const auto q = sample_emitter_point(method, emitter.shape, ctx.point, u[1], u[2]);
     if (!q) return std::nullopt;
     const Vec3 to_light = q->point - ctx.point;
     const double distance_squared = length_squared(to_light);
     if (!(distance_squared > 0)) return std::nullopt;
     s.wi_world = to_light / std::sqrt(distance_squared);
-    s.pdf_solid_angle = pmf * emitter_pdf_solid_angle(method, emitter.shape, ctx.point, s.wi_world, q->point, q->normal);
+    s.pdf_solid_angle = pmf * emitter_pdf_solid_angle(method, emitter, ctx.point, s.wi_world, q->point, q->normal);
     s.radiance = emitter.emitted_radiance;
     pdf_for_weight = s.pdf_solid_angle;
     // DEFECT(drop_light_cosine): area sampling converts to solid angle with r² only, forgetting 1/cos θ'.
     if (defect == Defect::kDropLightCosine && std::holds_alternative<std::monostate>(method) &&
-        dot(q->normal, -s.wi_world) > 0)
+        light_cosine(q->normal, s.wi_world, emitter.two_sided) > 0)
       pdf_for_weight = pmf * solid_angle_pdf_from_area(shape_area_pdf(emitter.shape), distance_squared, 1.0);
     // Shadow ray between the two offset surface points, so neither end hits its own surface.
     s.shadow_origin = scene->spawn_origin(ctx.object, ctx.point, ctx.normal, s.wi_world);
@@ -209,9 +228,11 @@ double LightStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_world, const
   const double pmf = lights->selection_pmf();
   if (!hit) return lights->environment ? pmf * cosine_hemisphere_pdf(ctx.frame.local_from_world(wi_world)) : 0.0;
   const Object& o = scene->scene().objects[hit->object];
-  if (!o.is_emitter() || !hit->front_facing) return 0.0;
-  const EmitterMethod method = emitter_method(o.shape, ctx.point, emitter_sampling);
-  return pmf * emitter_pdf_solid_angle(method, o.shape, ctx.point, wi_world, hit->point, hit->normal);
+  if (!o.is_emitter() || !(hit->front_facing || o.two_sided)) return 0.0;
+  const bool self = hit->object == ctx.object;
+  if (self && !std::holds_alternative<Sphere>(o.shape)) return 0.0;  // as in sample()
+  const EmitterMethod method = emitter_method(o, ctx.point, emitter_sampling, self);
+  return pmf * emitter_pdf_solid_angle(method, o, ctx.point, wi_world, hit->point, hit->normal);
 }
 
 // ---------------------------------------------------------------------------

@@ -51,11 +51,12 @@ struct DirectionSample {
 
 // Radiance arriving along a ray that found `hit` (or nothing): emission of a
 // front-facing emitter, the environment on a miss, 0 otherwise. Emitters are
-// one-sided: they emit along their front normal (spheres: outward).
+// one-sided: they emit along their front normal (spheres: outward), unless
+// the object is two_sided, which emits the same radiance from both sides.
 inline double emitted_radiance_towards(const Scene& scene, const std::optional<SurfaceHit>& hit) {
   if (!hit) return scene.environment.radiance;
   const Object& o = scene.objects[hit->object];
-  return hit->front_facing ? o.emitted_radiance : 0.0;
+  return hit->front_facing || o.two_sided ? o.emitted_radiance : 0.0;
 }
 
 // Counters a worker accumulates without sharing (one per thread).

@@ -28,7 +28,8 @@ double shape_area_pdf(const Shape& shape);
 // THE area → solid-angle conversion (the only place it is written):
 // p_ω = p_A · r² / cos θ', θ' the angle at the light point between its normal
 // and the direction back to the receiver. 0 when cos θ' ≤ 0 (the receiver sees
-// the light edge-on or from behind, where the one-sided light has no density).
+// the light edge-on or from behind, where a one-sided light has no density;
+// two-sided lights pass |cos θ'|).
 inline double solid_angle_pdf_from_area(double pdf_area, double distance_squared, double cos_theta_light) {
   return cos_theta_light > 0 ? pdf_area * distance_squared / cos_theta_light : 0.0;
 }

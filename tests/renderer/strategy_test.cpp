@@ -68,10 +68,11 @@ struct Fixture {
   std::unique_ptr<LightSet> lights;
   Material floor_material;
 
-  explicit Fixture(const Shape& light, double environment = 0) {
+  explicit Fixture(const Shape& light, double environment = 0, bool two_sided = false) {
     scene.name = "strategy_test";
     scene.objects.push_back(make_floor(0.5));
     scene.objects.push_back(make_object("light", light, 0, 3.0));
+    scene.objects.back().two_sided = two_sided;
     scene.environment.radiance = environment;
     device = std::make_unique<EmbreeDevice>();
     rtc = std::make_unique<EmbreeScene>(*device, scene);
@@ -157,6 +158,55 @@ INSTANTIATE_TEST_SUITE_P(
     [](const testing::TestParamInfo<LightParam>& info) {
       return std::get<0>(info.param).name + (std::get<1>(info.param) == EmitterSampling::kArea ? "Area" : "SolidAngle");
     });
+
+TEST(LightStrategy, TwoSidedLightIsSampledFromBehindAndOneSidedIsNot) {
+  // A rectangle whose front faces away (+z) from the shading point below it.
+  const Rectangle away{{-0.5, -0.3, 1.5}, {1.0, 0, 0}, {0, 0.8, 0}};
+  ASSERT_GT(away.normal().z, 0);
+  const double omega = rectangle_omega(away);
+  for (EmitterSampling mode : {EmitterSampling::kArea, EmitterSampling::kSolidAngle}) {
+    Fixture two(away, 0, true), one(away, 0, false);
+    const LightStrategy two_sided{two.rtc.get(), two.lights.get(), mode, Defect::kNone};
+    const LightStrategy one_sided{one.rtc.get(), one.lights.get(), mode, Defect::kNone};
+    Welford inverse_pdf;
+    TraceCounters counters;
+    for (int i = 0; i < kSamples; ++i) {
+      Rng rng(kSeed, 5, uint64_t(i));
+      const Uniform3 u = next_uniform3(rng);
+      EXPECT_FALSE(one_sided.sample(one.context(), u).has_value());
+      const auto s = two_sided.sample(two.context(), u);
+      ASSERT_TRUE(s.has_value());
+      inverse_pdf.add(1.0 / s->pdf_solid_angle);
+      if (i < 200) {
+        const auto hit = trace_from(*two.rtc, two.context(), s->wi_world, counters);
+        ASSERT_TRUE(hit.has_value());
+        EXPECT_FALSE(hit->front_facing);
+        EXPECT_EQ(emitted_radiance_towards(two.scene, hit), 3.0);
+        EXPECT_EQ(emitted_radiance_towards(one.scene, hit), 0.0);
+        EXPECT_NEAR(two_sided.pdf(two.context(), s->wi_world, hit) / s->pdf_solid_angle, 1.0, kTracedPdfRelTol);
+      }
+    }
+    EXPECT_TRUE(testing_support::mean_consistent(inverse_pdf, omega)) << inverse_pdf.mean << " vs " << omega;
+  }
+}
+
+TEST(LightStrategy, FlatLightDoesNotSampleItsOwnPoints) {
+  // The floor itself emits: from a point on it, the floor is seen edge-on.
+  Fixture f(Disk{{0, 0, 1}, {0, 0, -1}, 0.3});
+  f.scene.objects[0].emitted_radiance = 1.0;
+  const LightSet lights(f.scene);
+  ASSERT_EQ(lights.count(), 2u);
+  const LightStrategy strategy{f.rtc.get(), &lights, EmitterSampling::kSolidAngle, Defect::kNone};
+  int floor_picks = 0;
+  for (int i = 0; i < 200; ++i) {
+    Rng rng(kSeed, 6, uint64_t(i));
+    const Uniform3 u = next_uniform3(rng);
+    if (lights.select(u[0]) != 0) continue;
+    ++floor_picks;
+    EXPECT_FALSE(strategy.sample(f.context(), u).has_value());
+  }
+  EXPECT_GT(floor_picks, 50);
+}
 
 TEST(LightStrategy, EnvironmentIsSampledAsALight) {
   Fixture f(Disk{{0, 0, 1}, {0, 0, -1}, 0.3}, 2.0);
