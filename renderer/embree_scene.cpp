@@ -179,6 +179,8 @@ EmbreeScene::EmbreeScene(const EmbreeDevice& device, const Scene& scene) : devic
     rtcAttachGeometryByID(rtc_scene_, geom, static_cast<unsigned>(i));  // geomID == object index
     rtcReleaseGeometry(geom);
     object_extent_.push_back(extent_of(scene.objects[i].shape));
+    plane_point_.push_back(plane_point(scene.objects[i].shape));
+    plane_normal_.push_back(plane_point_.back() ? shape_normal(scene.objects[i].shape, *plane_point_.back()) : Vec3{});
   }
   rtcCommitScene(rtc_scene_);
   try {
@@ -221,9 +223,9 @@ SurfaceHit EmbreeScene::refine(size_t object, const Vec3& origin, const Vec3& di
   SurfaceHit hit;
   hit.object = object;
   hit.t = t_float;
-  if (const auto q = plane_point(shape)) {
+  if (const auto& q = plane_point_[object]) {
     // Planar: recompute the distance to the exact plane in double precision.
-    const Vec3 n = shape_normal(shape, *q);
+    const Vec3& n = plane_normal_[object];
     const double denom = dot(direction, n);
     if (denom != 0) hit.t = dot(*q - origin, n) / denom;
     hit.point = origin + direction * hit.t;

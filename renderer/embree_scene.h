@@ -83,6 +83,8 @@ class EmbreeScene {
   const Scene& scene_;
   RTCScene rtc_scene_ = nullptr;
   std::vector<double> object_extent_;  // largest |coordinate| of each object's bounding box
+  std::vector<std::optional<Vec3>> plane_point_;  // a point on each flat object's plane (empty: sphere)
+  std::vector<Vec3> plane_normal_;                // its front normal, computed once
 };
 
 }  // namespace furnace

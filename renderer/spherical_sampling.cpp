@@ -11,8 +11,16 @@ namespace {
 
 double safe_sqrt(double x) { return std::sqrt(std::max(0.0, x)); }
 
+// v/|v| by sqrt of the squared length: these are differences and cross
+// products of scene-scale vectors (|v| far inside 1e±150), so the overflow
+// protection of core's hypot-based normalize() is not needed here, and glibc's
+// 3-argument hypot dominated the profile of rectangle-lit path tracing.
+Vec3 unit(const Vec3& v) { return v / std::sqrt(length_squared(v)); }
+// Angle between unit vectors, atan2 form (accurate near 0 and π), without hypot.
+double angle_of(const Vec3& a, const Vec3& b) { return std::atan2(std::sqrt(length_squared(cross(a, b))), dot(a, b)); }
+
 // Unit component of v orthogonal to the unit vector a.
-Vec3 orthogonal_part(const Vec3& v, const Vec3& a) { return normalize(v - a * dot(v, a)); }
+Vec3 orthogonal_part(const Vec3& v, const Vec3& a) { return unit(v - a * dot(v, a)); }
 
 // Relative tolerance on perpendicular rectangle edges: scene files give edges
 // as decimal numbers, so exactly perpendicular inputs are perpendicular to
@@ -33,13 +41,13 @@ std::optional<SphericalTriangleSampler> SphericalTriangleSampler::make(const Tri
   SphericalTriangleSampler s;
   s.origin = origin;
   s.triangle = t;
-  s.a = normalize(t.p0 - origin);
-  s.b = normalize(t.p1 - origin);
-  s.c = normalize(t.p2 - origin);
+  s.a = unit(t.p0 - origin);
+  s.b = unit(t.p1 - origin);
+  s.c = unit(t.p2 - origin);
   s.solid_angle = spherical_triangle_solid_angle(s.a, s.b, s.c);
   if (!(s.solid_angle >= kMinSampledSolidAngle)) return std::nullopt;
   // Interior angle at a: between the great-circle tangents towards b and c.
-  s.alpha = angle_between(orthogonal_part(s.b, s.a), orthogonal_part(s.c, s.a));
+  s.alpha = angle_of(orthogonal_part(s.b, s.a), orthogonal_part(s.c, s.a));
   return s;
 }
 
@@ -56,17 +64,17 @@ Vec3 SphericalTriangleSampler::sample(double u1, double u2) const {
   const Vec3 c_hat = a * q + orthogonal_part(c, a) * safe_sqrt((1.0 - q) * (1.0 + q));
   const double z = 1.0 - u2 * (1.0 - dot(c_hat, b));
   if (!(1.0 - z > 0)) return b;  // ĉ = b to working precision: the arc has zero length
-  return normalize(b * z + orthogonal_part(c_hat, b) * safe_sqrt((1.0 - z) * (1.0 + z)));
+  return unit(b * z + orthogonal_part(c_hat, b) * safe_sqrt((1.0 - z) * (1.0 + z)));
 }
 
 std::optional<SphericalRectangleSampler> SphericalRectangleSampler::make(const Rectangle& r, const Vec3& origin) {
-  const double len_u = length(r.edge_u), len_v = length(r.edge_v);
+  const double len_u = std::sqrt(length_squared(r.edge_u)), len_v = std::sqrt(length_squared(r.edge_v));
   if (!(std::fabs(dot(r.edge_u, r.edge_v)) <= kPerpendicularTolerance * len_u * len_v)) return std::nullopt;
   SphericalRectangleSampler s;
   s.origin = origin;
   s.x = r.edge_u / len_u;
   s.y = r.edge_v / len_v;
-  s.z = r.normal();
+  s.z = unit(cross(r.edge_u, r.edge_v));  // = r.normal()
   const Vec3 d = r.corner - origin;
   s.z0 = dot(d, s.z);
   // One-sided light: the viewpoint must be strictly in front (z0 < 0 in this frame).
@@ -77,15 +85,15 @@ std::optional<SphericalRectangleSampler> SphericalRectangleSampler::make(const R
   s.y1 = s.y0 + len_v;
   // The four corners relative to origin and the normals of the great circles through adjacent pairs.
   const Vec3 v00{s.x0, s.y0, s.z0}, v01{s.x0, s.y1, s.z0}, v10{s.x1, s.y0, s.z0}, v11{s.x1, s.y1, s.z0};
-  const Vec3 n0 = normalize(cross(v00, v10));
-  const Vec3 n1 = normalize(cross(v10, v11));
-  const Vec3 n2 = normalize(cross(v11, v01));
-  const Vec3 n3 = normalize(cross(v01, v00));
+  const Vec3 n0 = unit(cross(v00, v10));
+  const Vec3 n1 = unit(cross(v10, v11));
+  const Vec3 n2 = unit(cross(v11, v01));
+  const Vec3 n3 = unit(cross(v01, v00));
   // Interior angles of the spherical quadrilateral: π minus the angle between adjacent normals.
-  const double g0 = angle_between(-n0, n1);
-  const double g1 = angle_between(-n1, n2);
-  const double g2 = angle_between(-n2, n3);
-  const double g3 = angle_between(-n3, n0);
+  const double g0 = angle_of(-n0, n1);
+  const double g1 = angle_of(-n1, n2);
+  const double g2 = angle_of(-n2, n3);
+  const double g3 = angle_of(-n3, n0);
   s.b0 = n0.z;
   s.b1 = n2.z;
   s.k = kTwoPi - g2 - g3;
