@@ -79,15 +79,19 @@ struct Image {
   int width = 0, height = 0;
   std::vector<PixelMoments> pixels;
   uint64_t nonfinite_samples = 0;  // NaN/Inf estimator values: dropped and counted (error tier 3)
-  uint64_t rays = 0;               // rays traced (primary + secondary + shadow)
+  uint64_t rays = 0;               // rays traced (primary + secondary + shadow); the camera ray
+                                   // is the same for every sample of a pixel and counted once
   double seconds = 0;              // wall time of render()
   const PixelMoments& at(int px, int py) const { return pixels[size_t(py) * width + px]; }
 };
 
 // Renders the scene: one camera ray per pixel centre; the pixel estimator is
 // Y = Le(x) + (ρ/π)·Ê(x) at the first hit x, Ê the strategy's single-sample
-// irradiance estimate. Throws furnace::Error if the scene has no emitter for
-// light sampling.
+// irradiance estimate (the environment radiance on a miss). For non-Lambertian
+// first hits the direct strategies estimate ∫ f·Li·cos dω with the BSDF's f:
+// only `bsdf` and the MIS strategies see a mirror's delta lobe. Path tracers
+// return their path's radiance. Throws furnace::Error if the scene has no
+// emitter (nor environment) for light sampling, or on a bad option.
 Image render(const Scene& scene, const RenderOptions& options);
 
 }  // namespace furnace

@@ -89,8 +89,9 @@ TEST_P(BsdfTest, PdfIntegratesToSuccessProbability) {
     success.add(b.sample(wo(), u1, u2).has_value() ? 1.0 : 0.0);
   }
   EXPECT_TRUE(testing_support::means_consistent(mass, success)) << mass.mean << " vs " << success.mean;
-  if (std::get<0>(GetParam()).material.type == BsdfType::kLambertian || std::get<1>(GetParam()) == 0.0)
+  if (std::get<0>(GetParam()).material.type == BsdfType::kLambertian || std::get<1>(GetParam()) == 0.0) {
     EXPECT_EQ(success.mean, 1.0);  // nothing of the lobe lies below the horizon
+  }
 }
 
 TEST_P(BsdfTest, MeanWeightIsDirectionalAlbedo) {

@@ -146,7 +146,9 @@ TEST_P(PathTracerTest, ConvexFurnaceSphereIsExact) {
   const Image image = render(scene, o);
   for (const PixelMoments& p : image.pixels) {
     const bool sees_ball = std::fabs(p.mean - 1.5) > 1e-9;  // background pixels see L itself
-    if (sees_ball) EXPECT_NEAR(p.mean / (0.7 * 1.5), 1.0, 1e-13);
+    if (sees_ball) {
+      EXPECT_NEAR(p.mean / (0.7 * 1.5), 1.0, 1e-13);
+    }
     EXPECT_LE(p.sample_variance(), 1e-26);
   }
 }
@@ -209,6 +211,28 @@ TEST(PathTracer, MirrorReflectsTheLight) {
     EXPECT_NEAR(image.at(3, 3).mean, 0.8 * 5.0, 1e-12) << strategy_name(s);
     EXPECT_EQ(image.at(0, 0).mean, 0.0) << strategy_name(s);
   }
+}
+
+TEST(Render, NonFiniteSamplesAreDroppedAndCounted) {
+  // Emission near the largest double: weight·Le overflows to +inf wherever the
+  // light-sampling weight exceeds ~1.2 (light points close above), and only there.
+  // The light (z = 0.7) is above the camera plane (z = 0.5): camera rays see the floor.
+  Scene scene;
+  scene.name = "overflow";
+  scene.camera = make_camera(4);
+  scene.objects.push_back(make_floor(1.0));
+  scene.objects.push_back(make_object("light", Disk{{0, 0, 0.7}, {0, 0, -1}, 2.0}, 0, 1.5e308));
+  RenderOptions o;
+  o.strategy = Strategy::kLightArea;
+  o.spp = 64;
+  const Image image = render(scene, o);
+  EXPECT_GT(image.nonfinite_samples, 0u);
+  uint64_t kept = 0;
+  for (const PixelMoments& p : image.pixels) {
+    EXPECT_TRUE(std::isfinite(p.mean));
+    kept += p.count;
+  }
+  EXPECT_EQ(kept + image.nonfinite_samples, uint64_t(o.spp) * image.pixels.size());
 }
 
 TEST(PixelMoments, MatchTwoPassMoments) {
