@@ -16,6 +16,7 @@
 #include "renderer/exr_io.h"
 #include "renderer/render.h"
 #include "verify/harness.h"
+#include "verify/report.h"
 
 namespace {
 
@@ -82,6 +83,26 @@ int run_verify(std::vector<std::string> scenes, std::vector<std::string> strateg
   return all_pass ? 0 : 1;
 }
 
+int run_report(const std::vector<std::string>& strategies, int min_spp, int max_spp, uint64_t seed, int threads,
+               const std::string& dir, const std::string& command_line) {
+  if (min_spp > max_spp)
+    throw Error(fmt::format("--min-spp ({}) must not exceed --max-spp ({}).", min_spp, max_spp));
+  for (const std::string& name : strategies) parse_strategy(name);
+  std::vector<verify::ConvergenceSeries> series;
+  for (const verify::Case& c : verify::default_suite(max_spp, seed, threads)) {
+    const bool selected = strategies.empty() || std::find(strategies.begin(), strategies.end(),
+                                                          strategy_name(c.options.strategy)) != strategies.end();
+    if (!selected) continue;
+    series.push_back(verify::measure_convergence(c, min_spp, max_spp));
+    const auto& s = series.back();
+    fmt::print("{:<16} {:<22} slope {:>7.3f}  rel. RMSE {:.3e} at {} spp in {:.3f} s\n", s.scene, s.strategy, s.slope,
+               s.points.back().relative_rmse, s.points.back().spp, s.points.back().seconds);
+  }
+  verify::write_convergence_report(series, dir, command_line);
+  fmt::print("wrote {}/convergence.md and {}/convergence.csv\n", dir, dir);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -123,6 +144,18 @@ int main(int argc, char** argv) {
   verify_cmd->add_option("--max-depth", v_max_depth, "Path tracers with --scene: longest path in segments (default unlimited)")
       ->check(CLI::Range(1, std::numeric_limits<int>::max()));
 
+  std::vector<std::string> r_strategies;
+  int r_min_spp = 4, r_max_spp = 1024, r_threads = 0;
+  uint64_t r_seed = 20261125;
+  std::string r_dir = "reports/generated";
+  auto* report_cmd = app.add_subcommand("report", "Write convergence reports (error against spp and time) for the built-in suite");
+  report_cmd->add_option("--strategy", r_strategies, "Strategy name(s); default: all");
+  report_cmd->add_option("--min-spp", r_min_spp, "Smallest spp (doubled up to --max-spp)")->capture_default_str()->check(CLI::Range(2, 1 << 24));
+  report_cmd->add_option("--max-spp", r_max_spp, "Largest spp")->capture_default_str()->check(CLI::Range(2, 1 << 24));
+  report_cmd->add_option("--seed", r_seed, "Random seed")->capture_default_str();
+  report_cmd->add_option("--threads", r_threads, "Worker threads (0: all)")->capture_default_str()->check(CLI::Range(0, 1024));
+  report_cmd->add_option("--output-dir", r_dir, "Directory for convergence.md and convergence.csv")->capture_default_str();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -130,6 +163,11 @@ int main(int argc, char** argv) {
   }
   try {
     if (*render_cmd) return run_render(scene_path, strategy, defect, spp, seed, threads, max_depth, roulette_depth, output);
+    if (*report_cmd) {
+      std::string command_line = "furnace";
+      for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
+      return run_report(r_strategies, r_min_spp, r_max_spp, r_seed, r_threads, r_dir, command_line);
+    }
     if (*verify_cmd) return run_verify(v_scenes, v_strategies, v_defect, v_spp, v_seed, v_threads, v_alpha, v_max_depth);
   } catch (const furnace::Error& e) {
     std::fprintf(stderr, "furnace: error: %s\n", e.what());
