@@ -1,18 +1,71 @@
 #include "analytic/environment.h"
 
+#include <cmath>
+#include <variant>
+#include <vector>
+
+#include "analytic/disk.h"
 #include "analytic/disk_light.h"
 #include "analytic/occlusion.h"
+#include "analytic/polygon.h"
+#include "analytic/sphere.h"
 
 namespace furnace::analytic {
 
+namespace {
+
+// Same threshold as disk_light.cpp: |n₁ × n₂| below it counts as parallel.
+constexpr double kParallelSine = 1e-12;
+
+}  // namespace
+
+double projected_solid_angle(const Scene& scene, size_t object, const Vec3& p, const Vec3& n) {
+  const Object& o = scene.objects[object];
+  if (height_range(o.shape, p, n).hi <= 0) return 0.0;  // wholly below the horizon
+  if (const auto* r = std::get_if<Rectangle>(&o.shape))
+    return polygon_irradiance({r->corner - p, r->corner + r->edge_u - p, r->corner + r->edge_u + r->edge_v - p,
+                               r->corner + r->edge_v - p},
+                              n);
+  if (const auto* t = std::get_if<Triangle>(&o.shape)) return polygon_irradiance({t->p0 - p, t->p1 - p, t->p2 - p}, n);
+  if (const auto* s = std::get_if<Sphere>(&o.shape)) {
+    if (length(p - s->center) <= s->radius)
+      unsupported_configuration(scene, "a receiving point inside the sphere '" + o.name + "' under an environment");
+    return sphere_irradiance(s->center - p, s->radius, n);
+  }
+  const Disk& d = std::get<Disk>(o.shape);
+  if (length(cross(normalize(d.normal), n)) > kParallelSine)
+    unsupported_configuration(scene, "the disk '" + o.name + "', tilted against the receiver and above its horizon,");
+  const Vec3 offset = d.center - p;
+  const double h = dot(offset, n);
+  return disk_irradiance_parallel(d.radius, h, length(offset - n * h));
+}
+
 double environment_irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optional<size_t> receiver) {
   if (!(scene.environment.radiance > 0)) return 0.0;
-  for (size_t j = 0; j < scene.objects.size(); ++j) {
-    if (receiver && j == *receiver) continue;
-    if (height_range(scene.objects[j].shape, p, n).hi > 0)
-      unsupported_configuration(scene, "a constant environment partly hidden by object '" + scene.objects[j].name + "'");
-  }
-  return kPi * scene.environment.radiance;
+  std::vector<size_t> blockers;
+  for (size_t j = 0; j < scene.objects.size(); ++j)
+    if (!(receiver && j == *receiver) && height_range(scene.objects[j].shape, p, n).hi > 0) blockers.push_back(j);
+  // Pairwise: the blockers' bounding cones from p must not overlap.
+  for (size_t a = 0; a < blockers.size(); ++a)
+    for (size_t b = a + 1; b < blockers.size(); ++b) {
+      const BoundingSphere ba = bounding_sphere(scene.objects[blockers[a]].shape);
+      const BoundingSphere bb = bounding_sphere(scene.objects[blockers[b]].shape);
+      const double da = length(ba.center - p), db = length(bb.center - p);
+      bool disjoint = da > ba.radius && db > bb.radius;
+      if (disjoint) {
+        const double half_a = std::asin(ba.radius / da), half_b = std::asin(bb.radius / db);
+        const double between = angle_between((ba.center - p) / da, (bb.center - p) / db);
+        // A relative margin keeps the test conservative under rounding.
+        disjoint = between > (half_a + half_b) * (1 + 1e-12) + 1e-12;
+      }
+      if (!disjoint)
+        unsupported_configuration(scene, "a constant environment hidden by the objects '" +
+                                             scene.objects[blockers[a]].name + "' and '" +
+                                             scene.objects[blockers[b]].name + "', which may overlap as seen from p,");
+    }
+  double blocked = 0;
+  for (size_t j : blockers) blocked += projected_solid_angle(scene, j, p, n);
+  return scene.environment.radiance * std::fmax(kPi - blocked, 0.0);
 }
 
 }  // namespace furnace::analytic

@@ -7,12 +7,26 @@
 
 namespace furnace::analytic {
 
-// E_env = ∫_{visible sky} L_env cos θ dω at p with unit normal n. With no
-// object above p's horizon (every object other than `receiver` has
-// max dot(x − p, n) ≤ 0) this is π·L_env (∫ cos θ dω = π over the hemisphere).
-// 0 when the environment radiance is 0. Throws furnace::Error (naming the
-// object) when an object rises above the horizon: the blocked part is not
-// solved yet.
+// Projected solid angle Ω⊥ = ∫ max(cos θ, 0) dω that one object covers as
+// seen from p with unit normal n (the object's irradiance per unit radiance if
+// it glowed with L = 1 on the side facing p):
+//   rectangle, triangle: polygon_irradiance (Lambert, clipped to the horizon);
+//   sphere: sphere_irradiance (Snyder, horizon straddle included);
+//   disk parallel to the receiver plane: disk_irradiance_parallel (Howell B-13);
+//   disk wholly below the horizon: 0.
+// Throws furnace::Error for a tilted disk above the horizon and for p inside a sphere.
+double projected_solid_angle(const Scene& scene, size_t object, const Vec3& p, const Vec3& n);
+
+// E_env = ∫_{visible sky} L_env cos θ dω at p with unit normal n:
+//   E_env = L_env·(π − Σ_objects Ω⊥(object)),
+// the sum over the objects above p's horizon other than `receiver`. Exact
+// when no two of them overlap as seen from p; that is checked with their
+// bounding cones (ball of centre c, radius r seen under half-angle
+// asin(r/|c − p|)): two cones are disjoint when the angle between their axes
+// exceeds the sum of the half-angles. Throws furnace::Error (naming the
+// objects) when two blockers may overlap, when p lies in a blocker's bounding
+// ball while another blocker exists, or when a blocker has no closed form.
+// 0 when L_env = 0. Units: W·m⁻² (those of L_env times sr).
 double environment_irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optional<size_t> receiver);
 
 }  // namespace furnace::analytic

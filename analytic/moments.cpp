@@ -68,7 +68,11 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
     const double l_env = scene.environment.radiance;
     switch (estimator) {
       case Estimator::kUniformHemisphere:
-        moment += 2 * kPi * l_env * l_env * (2 * kPi / 3);  // ∫ cos²θ dω = 2π/3
+        // ∫ cos²θ dω = 2π/3 over the open hemisphere; the cos²-weighted solid
+        // angle of blockers is not solved, so a blocked sky is refused.
+        if (e_env != kPi * l_env)
+          unsupported_configuration(scene, "the uniform-hemisphere second moment under a partly blocked environment");
+        moment += 2 * kPi * l_env * l_env * (2 * kPi / 3);
         break;
       case Estimator::kCosineHemisphere:
         moment += kPi * l_env * e_env;

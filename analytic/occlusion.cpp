@@ -79,4 +79,27 @@ bool ball_may_meet_disk_cone(const BoundingSphere& b, const Vec3& p, const Vec3&
   return min_gap <= b.radius + 1e-9 * scale;
 }
 
+bool ball_may_meet_ball_cone(const BoundingSphere& b, const Vec3& p, const BoundingSphere& light) {
+  const Vec3 axis_vector = light.center - p;
+  const double D = length(axis_vector);
+  if (D <= light.radius) return true;
+  const Vec3 axis = axis_vector / D;
+  // (x, y): b's centre along and across the axis from p.
+  const Vec3 q = b.center - p;
+  const double x = dot(q, axis);
+  const double y = length(q - axis * x);
+  const double sin_a = light.radius / D;
+  const double cos_a = std::sqrt((1 - sin_a) * (1 + sin_a));
+  const double along_edge = x * cos_a + y * sin_a;  // projection on the cone's edge direction
+  double distance;
+  if (along_edge < 0)
+    distance = length(q);  // apex region
+  else if (along_edge > D * cos_a)
+    distance = length(b.center - light.center) - light.radius;  // beyond the tangent circle: the cap
+  else
+    distance = y * cos_a - x * sin_a;  // across the lateral surface (negative inside)
+  const double scale = D + light.radius + length(q) + b.radius;
+  return distance <= b.radius + 1e-9 * scale;
+}
+
 }  // namespace furnace::analytic

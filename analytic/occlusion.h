@@ -32,4 +32,12 @@ BoundingSphere bounding_sphere(const Shape& shape);
 // of 1e-9 of the scene scale keeps the answer conservative.
 bool ball_may_meet_disk_cone(const BoundingSphere& b, const Vec3& p, const Vec3& w, double h, const Vec3& c, double R);
 
+// Can the ball `b` meet the convex hull of the point p and the ball `light`
+// (an "ice-cream cone")? Exact for balls: the signed distance from b's centre
+// to the hull (the round-cone distance of Quilez, apex radius 0: apex
+// region, lateral cone surface, spherical cap) is compared with b's radius,
+// with a relative margin of 1e-9 of the scene scale to stay conservative.
+// True when p lies inside `light` (nothing can be excluded then).
+bool ball_may_meet_ball_cone(const BoundingSphere& b, const Vec3& p, const BoundingSphere& light);
+
 }  // namespace furnace::analytic
