@@ -76,11 +76,13 @@ EmitterMethod emitter_method(const Object& emitter, const Vec3& p, EmitterSampli
 // The one helper both LightStrategy::sample and LightStrategy::pdf use.
 double emitter_pdf_solid_angle(const EmitterMethod& method, const Object& emitter, const Vec3& p, const Vec3& wi,
                                const Vec3& point, const Vec3& normal) {
-  const double cos_light = light_cosine(normal, wi, emitter.two_sided);
   if (std::holds_alternative<std::monostate>(method)) {
+    const double cos_light = light_cosine(normal, wi, emitter.two_sided);
     return solid_angle_pdf_from_area(shape_area_pdf(emitter.shape), length_squared(point - p), cos_light);
   }
-  if (!(cos_light > 0)) return 0.0;  // one-sided: the back of the light has no density
+  // The solid-angle methods exist only for viewpoints in front of the light
+  // (emitter_method), so every direction they cover meets its emitting side;
+  // no cos θ' test here, which round-off would fail at a sphere's silhouette.
   if (const auto* cone = std::get_if<ConeSetup>(&method))
     return uniform_cone_pdf(cone->frame.local_from_world(wi), cone->aperture);
   if (const auto* tri = std::get_if<SphericalTriangleSampler>(&method)) return tri->pdf();
@@ -89,6 +91,10 @@ double emitter_pdf_solid_angle(const EmitterMethod& method, const Object& emitte
 
 struct EmitterPoint {
   Vec3 point, normal;
+  // The sampled direction itself, when the method samples directions (cone,
+  // spherical triangle): recomputing it from `point` would add round-off that
+  // can push rim samples of a tiny cone out of its support.
+  std::optional<Vec3> direction;
 };
 
 // First intersection of p + t·w (t > 0) with the sphere, exact in double
@@ -103,7 +109,7 @@ std::optional<EmitterPoint> intersect_sphere(const Sphere& s, const Vec3& p, con
   const double t = -b - root;
   if (!(t > 0)) return std::nullopt;
   const Vec3 n = normalize(p + w * t - s.center);
-  return EmitterPoint{s.center + n * s.radius, n};
+  return EmitterPoint{s.center + n * s.radius, n, w};
 }
 
 std::optional<EmitterPoint> intersect_plane(const Vec3& plane_point, const Vec3& normal, const Vec3& p,
@@ -112,7 +118,7 @@ std::optional<EmitterPoint> intersect_plane(const Vec3& plane_point, const Vec3&
   if (denom == 0) return std::nullopt;
   const double t = dot(plane_point - p, normal) / denom;
   if (!(t > 0)) return std::nullopt;
-  return EmitterPoint{p + w * t, normal};
+  return EmitterPoint{p + w * t, normal, w};
 }
 
 // A point on the emitter by `method`.
@@ -120,7 +126,7 @@ std::optional<EmitterPoint> sample_emitter_point(const EmitterMethod& method, co
                                                  double u1, double u2) {
   if (std::holds_alternative<std::monostate>(method)) {
     const AreaSample a = sample_shape_area(shape, u1, u2);
-    return EmitterPoint{a.point, a.normal};
+    return EmitterPoint{a.point, a.normal, std::nullopt};
   }
   if (const auto* cone = std::get_if<ConeSetup>(&method)) {
     const Vec3 w = cone->frame.world_from_local(sample_uniform_cone(u1, u2, cone->aperture));
@@ -130,7 +136,7 @@ std::optional<EmitterPoint> sample_emitter_point(const EmitterMethod& method, co
     return intersect_plane(tri->triangle.p0, tri->triangle.normal(), p, tri->sample(u1, u2));
   }
   const auto& rect = std::get<SphericalRectangleSampler>(method);
-  return EmitterPoint{rect.sample_point(u1, u2), std::get<Rectangle>(shape).normal()};
+  return EmitterPoint{rect.sample_point(u1, u2), std::get<Rectangle>(shape).normal(), std::nullopt};
 }
 
 }  // namespace
@@ -200,7 +206,7 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     const Vec3 to_light = q->point - ctx.point;
     const double distance_squared = length_squared(to_light);
     if (!(distance_squared > 0)) return std::nullopt;
-    s.wi_world = to_light / std::sqrt(distance_squared);
+    s.wi_world = q->direction ? *q->direction : to_light / std::sqrt(distance_squared);
     s.pdf_solid_angle = pmf * emitter_pdf_solid_angle(method, emitter, ctx.point, s.wi_world, q->point, q->normal);
     s.radiance = emitter.emitted_radiance;
     pdf_for_weight = s.pdf_solid_angle;

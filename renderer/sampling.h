@@ -178,10 +178,18 @@ struct ConeAperture {
   }
 };
 
-// Slack, relative to 1 − cos θmax, of the cone support test: a sample drawn
-// with u1 just below 1 lies on the rim up to a few ulps of round-off in
-// sin θ·(cos φ, sin φ); without slack pdf(sample) could read 0.
-inline constexpr double kConeSupportSlack = 1e-12;
+// Slack of the cone support test. A sample drawn with u1 just below 1 lies on
+// the rim, and a direction that went through a frame change (world ↔ local)
+// carries a few ulps of absolute error per component; without slack
+// pdf(sample) could read 0 for rim samples of tiny cones. Both allowances are
+// far below anything a statistical test resolves.
+inline constexpr double kConeSupportSlack = 1e-12;               // relative, on 1 − cos θmax
+inline constexpr double kDirectionRoundoff = 16 * 0x1.0p-53;     // absolute, per direction component
+inline double cone_support_limit(const ConeAperture& cone) {
+  // 1 − cos θ grows as θ·dθ near the rim: an angular error δ moves it by ≈ 2·√(1 − cos θmax)·δ.
+  const double om = cone.one_minus_cos_theta_max;
+  return om * (1.0 + kConeSupportSlack) + 2.0 * std::sqrt(om) * kDirectionRoundoff + kDirectionRoundoff * kDirectionRoundoff;
+}
 
 inline Vec3 sample_uniform_cone(double u1, double u2, const ConeAperture& cone) {
   const double t = u1 * cone.one_minus_cos_theta_max;  // t = 1 − cos θ, uniform in [0, 1 − cos θmax)
@@ -196,7 +204,7 @@ inline Vec3 sample_uniform_cone(double u1, double u2, double cos_theta_max) {
 inline double uniform_cone_pdf(const Vec3& w, const ConeAperture& cone) {
   if (!(cone.one_minus_cos_theta_max > 0)) return 0.0;  // a zero-width cone is a delta: no density
   const double t = sampling_detail::one_minus_cos_theta(w);
-  if (!(t <= cone.one_minus_cos_theta_max * (1.0 + kConeSupportSlack))) return 0.0;
+  if (!(t <= cone_support_limit(cone))) return 0.0;
   return 1.0 / (kTwoPi * cone.one_minus_cos_theta_max);
 }
 inline double uniform_cone_pdf(const Vec3& w, double cos_theta_max) {

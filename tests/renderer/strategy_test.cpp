@@ -173,6 +173,26 @@ std::vector<LightCase> exact_solid_angle_cases() {
 INSTANTIATE_TEST_SUITE_P(Lights, ExactSolidAngleTest, testing::ValuesIn(exact_solid_angle_cases()),
                          [](const testing::TestParamInfo<LightCase>& info) { return info.param.name; });
 
+TEST(LightStrategy, TinySphereLightKeepsEveryConeSample) {
+  // θmax ≈ 5e-6: every cone sample, rim included, must hit the sphere and keep
+  // its density 1/Ω (no sample lost to round-off at the cone's edge).
+  const Sphere tiny{{0.1, 0.2, 2.0}, 1e-5};
+  const double d = length(tiny.center);
+  const double sin2 = tiny.radius * tiny.radius / (d * d);
+  const double omega = kTwoPi * sin2 / (1 + std::sqrt(1 - sin2));
+  Fixture f(tiny);
+  const LightStrategy strategy{f.rtc.get(), f.lights.get(), EmitterSampling::kSolidAngle, Defect::kNone};
+  const double rim = std::nextafter(1.0, 0.0);
+  for (int i = 0; i < 1024; ++i) {
+    Rng rng(kSeed, 7, uint64_t(i));
+    Uniform3 u = next_uniform3(rng);
+    if (i % 2 == 0) u[1] = rim;
+    const auto s = strategy.sample(f.context(), u);
+    ASSERT_TRUE(s.has_value()) << i;
+    EXPECT_NEAR(s->pdf_solid_angle * omega, 1.0, kExactRelTol);
+  }
+}
+
 TEST(LightStrategy, TwoSidedLightIsSampledFromBehindAndOneSidedIsNot) {
   // A rectangle whose front faces away (+z) from the shading point below it.
   const Rectangle away{{-0.5, -0.3, 1.5}, {1.0, 0, 0}, {0, 0.8, 0}};
