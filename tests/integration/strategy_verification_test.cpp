@@ -1,14 +1,17 @@
-// Every direct-lighting strategy passes the mean tests against the exact
-// reference on the disk-with-occluder scene, and every deliberately wrong
-// variant (negative control) fails them.
+// Every case of the built-in suite (each scene × each strategy with a
+// reference for it) passes the mean tests against the exact reference, and
+// every deliberately wrong variant (negative control) fails them.
 //
-// Budget and levels: each case renders the 32×32 default scene at kSpp
-// samples per pixel with a fixed named seed; its 1024 pixel t-tests and its
+// Budget and levels: each case renders its scene at kSpp samples per pixel
+// with a fixed named seed; its pixel t-tests and its
 // image-mean z-test share the family-wise level kCaseAlpha by the Šidák
 // correction (verify/harness.cpp). The tests print the smallest relative bias
 // each case detects with power kReportedPower.
 #include <gtest/gtest.h>
 
+#include <cctype>
+#include <filesystem>
+#include <limits>
 #include <string>
 
 #include "verify/harness.h"
@@ -16,11 +19,21 @@
 namespace furnace::verify {
 namespace {
 
-constexpr int kSpp = 512;
+// 4096: enough that hemisphere sampling, whose per-sample estimate at the
+// centre pixels is nearly Bernoulli with p ≈ 1 %, gives pixel means close
+// enough to normal for the t-test (Cochran's rule, verify/harness.h).
+constexpr int kSpp = 4096;
 constexpr uint64_t kSeed = 0x5eed2026;  // fixed: a pass today fails only when the code changes
 // Per case. The suite's cases are separate ctest tests; 1e-3 keeps the
 // chance that any of the 3 correct cases raises a false alarm below 0.3 %.
 constexpr double kCaseAlpha = 1e-3;
+// The smallest effect among the negative controls: a pdf 1.1× too large
+// biases the estimate by 1 − 1/1.1 ≈ 9.1 %. A correct case whose image-mean
+// test cannot resolve that would make the controls meaningless.
+constexpr double kSmallestControlEffect = 1.0 - 1.0 / 1.1;
+// At most this fraction of pixels may be too skewed for their t-test at
+// kSpp; beyond it the per-pixel half of the verdict has no power.
+constexpr double kMaxUntestedFraction = 0.01;
 
 std::string scene_path() { return std::string(FURNACE_SCENE_DIR) + "/disk_occluder.json"; }
 
@@ -40,29 +53,42 @@ void report(const Verdict& v) {
   testing::Test::RecordProperty("z", std::to_string(v.z));
 }
 
-class CorrectStrategy : public testing::TestWithParam<Strategy> {};
-
-TEST_P(CorrectStrategy, PassesMeanTestsOnDiskOccluder) {
-  const Verdict v = run(GetParam(), Defect::kNone);
-  report(v);
-  EXPECT_EQ(v.nonfinite_samples, 0u);
-  EXPECT_EQ(v.pixel_failures, 0) << "worst |t| " << v.worst_pixel_t;
-  EXPECT_LT(std::fabs(v.z), v.threshold);
-  EXPECT_TRUE(v.pass);
-  // Power: the image-mean test must resolve biases well below the 10 % of
-  // the pdf negative control, or the controls below would prove nothing.
-  EXPECT_LT(v.detectable_rel_bias, 0.01);
+std::string camel(const std::string& snake) {
+  std::string name;
+  bool upper = true;
+  for (char ch : snake) {
+    if (!std::isalnum(static_cast<unsigned char>(ch))) { upper = true; continue; }
+    name += upper ? char(std::toupper(static_cast<unsigned char>(ch))) : ch;
+    upper = false;
+  }
+  return name;
 }
 
-INSTANTIATE_TEST_SUITE_P(DiskOccluder, CorrectStrategy, testing::ValuesIn(all_strategies()),
-                         [](const testing::TestParamInfo<Strategy>& info) {
-                           std::string name;
-                           bool upper = true;
-                           for (char ch : strategy_name(info.param)) {
-                             if (ch == '_') { upper = true; continue; }
-                             name += upper ? char(std::toupper(ch)) : ch;
-                             upper = false;
-                           }
+// The built-in suite of `furnace verify`: every scene with every strategy
+// that has a reference for it, at kSpp.
+class SuiteCase : public testing::TestWithParam<Case> {};
+
+TEST_P(SuiteCase, PassesMeanTests) {
+  const Verdict v = run_case(GetParam(), kCaseAlpha);
+  report(v);
+  EXPECT_EQ(v.nonfinite_samples, 0u);
+  EXPECT_EQ(v.pixel_failures, 0) << "worst |t| " << v.worst_pixel_t << " at pixel (" << v.worst_px << ", "
+                                 << v.worst_py << ")";
+  EXPECT_LT(std::fabs(v.z), v.threshold);
+  EXPECT_TRUE(v.pass);
+  // Power: the image-mean test must resolve biases well below the smallest
+  // negative control's effect, or the controls below would prove nothing.
+  EXPECT_LT(v.detectable_rel_bias, kSmallestControlEffect / 2);
+  EXPECT_LE(v.pixels_untested, kMaxUntestedFraction * v.pixels);
+}
+
+INSTANTIATE_TEST_SUITE_P(Builtin, SuiteCase, testing::ValuesIn(default_suite(kSpp, kSeed, 0)),
+                         [](const testing::TestParamInfo<Case>& info) {
+                           const Case& c = info.param;
+                           std::string scene = std::filesystem::path(c.scene_path).stem().string();
+                           std::string name = camel(scene) + camel(strategy_name(c.options.strategy));
+                           if (c.options.max_depth != std::numeric_limits<int>::max())
+                             name += "Depth" + std::to_string(c.options.max_depth);
                            return name;
                          });
 
