@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <ostream>
 #include <string>
 #include <tuple>
 
@@ -28,6 +29,8 @@ struct MaterialCase {
   std::string name;
   Material material;
 };
+
+void PrintTo(const MaterialCase& c, std::ostream* os) { *os << c.name; }
 
 Material make_material(BsdfType type, double albedo, double exponent = 0) {
   Material m;

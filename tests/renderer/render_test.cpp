@@ -192,6 +192,47 @@ TEST_P(PathTracerTest, MaxDepthOneSeesOnlyEmission) {
 INSTANTIATE_TEST_SUITE_P(PathTracers, PathTracerTest, testing::ValuesIn(path_tracing_strategies()),
                          strategy_param_name);
 
+// Every direct strategy estimates the same quantity: on a scene with a
+// rectangle, triangle and sphere light, a blocker and an environment, their
+// image means agree with light_area's (two-sample z-tests with data-derived
+// variances, each at level kAlpha).
+TEST(DirectStrategies, AgreeOnAMixedLightScene) {
+  Scene scene;
+  scene.name = "mixed_lights";
+  scene.camera = make_camera(8);
+  scene.objects.push_back(make_floor(0.8));
+  scene.objects.push_back(make_object("rect_light", Rectangle{{-1.2, -0.6, 1.5}, {0, 0.5, 0}, {0.6, 0, 0}}, 0, 4.0));
+  scene.objects.push_back(make_object("tri_light", Triangle{{0.4, 0.3, 1.0}, {0.9, 0.3, 1.1}, {0.6, 0.8, 1.0}}, 0, 6.0));
+  scene.objects.push_back(make_object("ball_light", Sphere{{0.5, -0.7, 1.3}, 0.25}, 0, 3.0));
+  scene.objects.push_back(make_object("blocker", Disk{{0, 0, 0.8}, {0, 0, 1}, 0.3}, 0.5));
+  scene.environment.radiance = 0.2;
+  const auto image_mean = [&](Strategy s) {
+    RenderOptions o;
+    o.strategy = s;
+    o.spp = 1024;
+    o.seed = kSeed;
+    const Image image = render(scene, o);
+    // The mean of the pixel means; pixels are independent, so its variance is Σ s²/N over P².
+    double sum = 0, variance_of_sum = 0;
+    for (const PixelMoments& p : image.pixels) {
+      sum += p.mean;
+      variance_of_sum += p.sample_variance() / double(p.count);
+    }
+    const double n = double(image.pixels.size());
+    return testing_support::Estimate{sum / n, std::sqrt(variance_of_sum) / n};
+  };
+  const testing_support::Estimate reference = image_mean(Strategy::kLightArea);
+  const std::vector<Strategy> others = {Strategy::kUniformHemisphere, Strategy::kCosineHemisphere,
+                                        Strategy::kLightSolidAngle,   Strategy::kBsdf,
+                                        Strategy::kMisBalance,        Strategy::kMisPower};
+  for (Strategy s : others) {
+    const testing_support::Estimate m = image_mean(s);
+    EXPECT_TRUE(testing_support::means_consistent(reference, m))
+        << strategy_name(s) << ": " << m.mean << " ± " << m.standard_error << " vs light_area " << reference.mean
+        << " ± " << reference.standard_error;
+  }
+}
+
 TEST(PathTracer, MirrorReflectsTheLight) {
   // A mirror floor under an emitting disk facing down: the camera looking down
   // at the mirror sees, reflected, the disk's emission Le·R where the mirror

@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -89,6 +90,8 @@ std::vector<DirectionalWarp> directional_warps() {
       phong_warp("PhongLobe500", 500),
   };
 }
+
+void PrintTo(const DirectionalWarp& w, std::ostream* os) { *os << w.name; }
 
 class DirectionalWarpTest : public testing::TestWithParam<DirectionalWarp> {};
 

@@ -3,6 +3,7 @@
 // 1/Ω), samples land on the shape, and the documented empty cases.
 #include <gtest/gtest.h>
 
+#include <ostream>
 #include <string>
 
 #include "renderer/sampling.h"
@@ -33,6 +34,8 @@ struct TriangleCase {
   Triangle triangle;
   Vec3 viewpoint;
 };
+
+void PrintTo(const TriangleCase& c, std::ostream* os) { *os << c.name; }
 
 class SphericalTriangleTest : public testing::TestWithParam<TriangleCase> {};
 
@@ -92,6 +95,8 @@ struct RectangleCase {
   Rectangle rectangle;
   Vec3 viewpoint;
 };
+
+void PrintTo(const RectangleCase& c, std::ostream* os) { *os << c.name; }
 
 class SphericalRectangleTest : public testing::TestWithParam<RectangleCase> {};
 

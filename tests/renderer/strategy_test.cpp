@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <optional>
+#include <ostream>
 #include <string>
 #include <tuple>
 
@@ -63,6 +64,8 @@ std::vector<LightCase> light_cases() {
           {"Sphere", sphere, sphere_omega},
           {"Disk", disk, disk_omega}};
 }
+
+void PrintTo(const LightCase& c, std::ostream* os) { *os << c.name; }
 
 // Floor at z = 0 plus one emitter; the shading point is the origin, viewed from above.
 struct Fixture {

@@ -46,12 +46,21 @@ inline bool mean_consistent(const Welford& w, double expected) {
   return std::fabs(w.mean - expected) <= allowance;
 }
 
-// True if two independent sample means are consistent at level kAlpha
-// (two-sample z-test, data-derived standard errors).
-inline bool means_consistent(const Welford& a, const Welford& b) {
-  const double se = std::hypot(a.standard_error(), b.standard_error());
+// A mean with its (data-derived) standard error.
+struct Estimate {
+  double mean = 0;
+  double standard_error = 0;
+};
+
+// True if two independent estimates are consistent at level kAlpha
+// (two-sample z-test).
+inline bool means_consistent(const Estimate& a, const Estimate& b) {
+  const double se = std::hypot(a.standard_error, b.standard_error);
   const double allowance = z_critical(kAlpha) * se + kConstantMeanRelTol * std::fmax(std::fabs(a.mean), std::fabs(b.mean));
   return std::fabs(a.mean - b.mean) <= allowance;
+}
+inline bool means_consistent(const Welford& a, const Welford& b) {
+  return means_consistent(Estimate{a.mean, a.standard_error()}, Estimate{b.mean, b.standard_error()});
 }
 
 // ∫∫ f(w) dω over directions with t = 1 − cos θ in [t_min, t_max], φ in [0, 2π],
