@@ -15,6 +15,7 @@
 #include "core/scene.h"
 #include "renderer/exr_io.h"
 #include "renderer/render.h"
+#include "verify/analytic_query.h"
 #include "verify/harness.h"
 #include "verify/report.h"
 
@@ -156,6 +157,17 @@ int main(int argc, char** argv) {
   report_cmd->add_option("--threads", r_threads, "Worker threads (0: all)")->capture_default_str()->check(CLI::Range(0, 1024));
   report_cmd->add_option("--output-dir", r_dir, "Directory for convergence.md and convergence.csv")->capture_default_str();
 
+  std::string a_scene, a_point, a_normal;
+  double a_albedo = -1;
+  bool a_json = false;
+  auto* analytic_cmd = app.add_subcommand("analytic", "Print the exact irradiance, radiance and estimator moments at a point");
+  analytic_cmd->add_option("--scene", a_scene, "Scene file (JSON)")->required();
+  analytic_cmd->add_option("--point", a_point, "Receiver point x,y,z")->required();
+  analytic_cmd->add_option("--normal", a_normal, "Receiver normal x,y,z (normalised)")->required();
+  analytic_cmd->add_option("--albedo", a_albedo, "Lambertian albedo for the radiance (default: the receiver's)")
+      ->check(CLI::Range(0.0, 1.0));
+  analytic_cmd->add_flag("--json", a_json, "Print JSON");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -163,6 +175,17 @@ int main(int argc, char** argv) {
   }
   try {
     if (*render_cmd) return run_render(scene_path, strategy, defect, spp, seed, threads, max_depth, roulette_depth, output);
+    if (*analytic_cmd) {
+      const Scene scene = load_scene(a_scene);
+      verify::AnalyticQuery q;
+      q.point = verify::parse_vec3_option(a_point, "--point");
+      const Vec3 n = verify::parse_vec3_option(a_normal, "--normal");
+      if (!(length(n) > 0)) throw Error(fmt::format("option --normal must be a non-zero direction, got \"{}\".", a_normal));
+      q.normal = normalize(n);
+      if (a_albedo >= 0) q.albedo = a_albedo;
+      std::fputs(verify::answer_analytic_query(scene, q, a_json).c_str(), stdout);
+      return 0;
+    }
     if (*report_cmd) {
       std::string command_line = "furnace";
       for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
