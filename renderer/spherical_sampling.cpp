@@ -67,6 +67,21 @@ Vec3 SphericalTriangleSampler::sample(double u1, double u2) const {
   return unit(b * z + orthogonal_part(c_hat, b) * safe_sqrt((1.0 - z) * (1.0 + z)));
 }
 
+std::array<double, 2> SphericalTriangleSampler::invert(const Vec3& w) const {
+  // ĉ: where the great circle through b and w meets the arc ac (the side of
+  // the sub-triangle u1 chose); then u1 is that sub-triangle's share of Ω and
+  // u2 the position of w on the arc bĉ by 1 − cos, as in sample().
+  Vec3 c_hat = unit(cross(cross(b, w), cross(a, c)));
+  if (dot(c_hat, a + c) < 0) c_hat = -c_hat;  // the intersection on the arc, not its antipode
+  const double u1 = spherical_triangle_solid_angle(a, b, c_hat) / solid_angle;
+  // 1 − cos of unit vectors as |p − q|²/2, which does not cancel for close vectors.
+  const double one_minus_cos_w = 0.5 * length_squared(w - b);
+  const double one_minus_cos_c = 0.5 * length_squared(c_hat - b);
+  const double u2 = one_minus_cos_c > 0 ? one_minus_cos_w / one_minus_cos_c : 0.0;
+  const double top = std::nextafter(1.0, 0.0);
+  return {std::clamp(u1, 0.0, top), std::clamp(u2, 0.0, top)};
+}
+
 std::optional<SphericalRectangleSampler> SphericalRectangleSampler::make(const Rectangle& r, const Vec3& origin) {
   const double len_u = std::sqrt(length_squared(r.edge_u)), len_v = std::sqrt(length_squared(r.edge_v));
   if (!(std::fabs(dot(r.edge_u, r.edge_v)) <= kPerpendicularTolerance * len_u * len_v)) return std::nullopt;
@@ -116,6 +131,27 @@ Vec3 SphericalRectangleSampler::sample_point(double u1, double u2) const {
   const double one_minus_hv2 = (1.0 - hv) * (1.0 + hv);
   const double yv = one_minus_hv2 > 0 ? std::clamp(hv * dist / std::sqrt(one_minus_hv2), y0, y1) : y1;
   return origin + x * xu + y * yv + z * z0;
+}
+
+}  // namespace furnace
+
+namespace furnace {
+
+std::array<double, 2> SphericalRectangleSampler::invert(const Vec3& point) const {
+  const Vec3 d = point - origin;
+  const double xu = std::clamp(dot(d, x), x0, x1);
+  const double yv = std::clamp(dot(d, y), y0, y1);
+  // u1: solid angle of the sub-rectangle [x0, xu] × [y0, y1] over Ω, by two
+  // Van Oosterom–Strackee triangles (accurate however thin the strip is).
+  const Vec3 v00 = unit({x0, y0, z0}), v01 = unit({x0, y1, z0}), vu0 = unit({xu, y0, z0}), vu1 = unit({xu, y1, z0});
+  const double strip = spherical_triangle_solid_angle(v00, vu0, vu1) + spherical_triangle_solid_angle(v00, vu1, v01);
+  // u2: the height h = y/√(d² + y²) is uniform in [h0, h1] along the column at xu.
+  const double dist = std::hypot(xu, z0);
+  const double h0 = y0 / std::hypot(dist, y0);
+  const double h1 = y1 / std::hypot(dist, y1);
+  const double hv = yv / std::hypot(dist, yv);
+  const double top = std::nextafter(1.0, 0.0);
+  return {std::clamp(strip / solid_angle, 0.0, top), std::clamp((hv - h0) / (h1 - h0), 0.0, top)};
 }
 
 }  // namespace furnace

@@ -37,6 +37,8 @@ struct SphericalTriangleSampler {
   static std::optional<SphericalTriangleSampler> make(const Triangle& t, const Vec3& origin);
   // A unit direction uniform in the spherical triangle.
   Vec3 sample(double u1, double u2) const;
+  // The (u1, u2) that sample() maps to direction w (w inside the triangle).
+  std::array<double, 2> invert(const Vec3& w) const;
   // Density in solid angle (sr⁻¹): 1/Ω (callers pass directions that hit the triangle).
   double pdf() const { return 1.0 / solid_angle; }
 };
@@ -53,6 +55,8 @@ struct SphericalRectangleSampler {
   static std::optional<SphericalRectangleSampler> make(const Rectangle& r, const Vec3& origin);
   // A point on the rectangle whose direction from origin is uniform in solid angle.
   Vec3 sample_point(double u1, double u2) const;
+  // The (u1, u2) that sample_point() maps to `point` (a point of the rectangle).
+  std::array<double, 2> invert(const Vec3& point) const;
   double pdf() const { return 1.0 / solid_angle; }
 };
 
