@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 
 #include <fmt/format.h>
 
 #include "analytic/global.h"
+#include "analytic/moments.h"
 #include "analytic/reference.h"
 #include "core/error.h"
 #include "verify/statistics.h"
@@ -22,6 +24,19 @@ bool is_path_tracer(Strategy s) {
   return false;
 }
 }  // namespace
+
+// The analytic model of a direct strategy's single-sample estimator, where
+// analytic/moments.h has one. BSDF sampling of a Lambertian receiver is
+// cosine-weighted hemisphere sampling.
+std::optional<analytic::Estimator> analytic_estimator(Strategy s) {
+  switch (s) {
+    case Strategy::kUniformHemisphere: return analytic::Estimator::kUniformHemisphere;
+    case Strategy::kCosineHemisphere: return analytic::Estimator::kCosineHemisphere;
+    case Strategy::kBsdf: return analytic::Estimator::kCosineHemisphere;
+    case Strategy::kLightArea: return analytic::Estimator::kLightArea;
+    default: return std::nullopt;
+  }
+}
 
 std::vector<double> reference_for(const Scene& scene, const RenderOptions& options) {
   if (is_path_tracer(options.strategy)) return analytic::global_reference_image(scene, options.max_depth);
@@ -80,9 +95,29 @@ Verdict run_case(const Case& c, double per_case_alpha) {
   v.samples_per_second = double(v.pixels) * v.spp / image.seconds;
   v.nonfinite_samples = image.nonfinite_samples;
 
-  // P pixel tests + 1 image-mean test share this case's α (Šidák).
-  const size_t n_tests = reference.size() + 1;
+
+  // Predicted per-pixel variances, when the strategy has an analytic model
+  // and analytic/ solves this scene's second moments.
+  std::vector<double> predicted_variance;
+  if (const auto estimator = analytic_estimator(c.options.strategy); estimator && c.options.defect == Defect::kNone) {
+    try {
+      predicted_variance.resize(reference.size());
+      for (int py = 0; py < image.height; ++py)
+        for (int px = 0; px < image.width; ++px) {
+          const size_t i = size_t(py) * image.width + px;
+          const double m2 = analytic::pixel_center_second_moment(*estimator, scene, px, py);
+          predicted_variance[i] = std::fmax(0.0, m2 - reference[i] * reference[i]);
+        }
+    } catch (const Error&) {
+      predicted_variance.clear();  // not modelled for this scene: mean tests only
+    }
+  }
+  v.variance_tested = !predicted_variance.empty();
+  // P pixel tests + 1 image-mean test (and as many variance tests when the
+  // variance is modelled) share this case's α (Šidák).
+  const size_t n_tests = (reference.size() + 1) * (v.variance_tested ? 2 : 1);
   const double alpha_each = stats::sidak_alpha(per_case_alpha, n_tests);
+  double sum_s2 = 0, sum_sigma2 = 0, sum_var_s2 = 0;
 
   double sum_estimate = 0, sum_reference = 0, sum_variance_of_mean = 0, sum_sq_error = 0;
   std::vector<double> pixel_detectable;
@@ -108,6 +143,14 @@ Verdict run_case(const Case& c, double per_case_alpha) {
     const bool round_off_only = std::sqrt(variance) <= stats::kZeroVarianceRelTolerance * std::fabs(m.mean);
     const stats::MeanTestResult t =
         stats::mean_test(m.count, m.mean, round_off_only ? 0.0 : variance, reference[i], alpha_each);
+    if (v.variance_tested) {
+      const stats::VarianceTestResult vt =
+          stats::variance_test(stats::moment_sums(m), predicted_variance[i], alpha_each);
+      if (!vt.pass) ++v.variance_pixel_failures;
+      sum_s2 += vt.sample_variance;
+      sum_sigma2 += vt.predicted_variance;
+      sum_var_s2 += vt.standard_error * vt.standard_error;
+    }
     if (!t.pass) ++v.pixel_failures;
     const double badness = (!t.pass && t.zero_variance) ? HUGE_VAL : std::fabs(t.statistic);
     if (badness > v.worst_pixel_t || i == 0) {
@@ -135,7 +178,16 @@ Verdict run_case(const Case& c, double per_case_alpha) {
     std::nth_element(pixel_detectable.begin(), mid, pixel_detectable.end());
     v.median_pixel_detectable_rel_bias = *mid;
   }
-  v.pass = zt.pass && v.pixel_failures == 0 && v.nonfinite_samples == 0;
+  bool variance_pass = true;
+  if (v.variance_tested) {
+    const stats::ZTestResult vz = stats::z_test(sum_s2, sum_sigma2, std::sqrt(sum_var_s2), alpha_each);
+    v.measured_variance = sum_s2 / p;
+    v.predicted_variance = sum_sigma2 / p;
+    v.variance_z = vz.statistic;
+    v.variance_detectable_rel_error = vz.detectable_relative_bias;
+    variance_pass = vz.pass && v.variance_pixel_failures == 0;
+  }
+  v.pass = zt.pass && v.pixel_failures == 0 && v.nonfinite_samples == 0 && variance_pass;
   return v;
 }
 
@@ -155,6 +207,11 @@ std::string format_table(const std::vector<Verdict>& verdicts, double family_alp
                        v.pixel_failures, v.pixels, v.pixels_untested, 100 * v.detectable_rel_bias,
                        100 * v.median_pixel_detectable_rel_bias, v.seconds, v.samples_per_second / 1e6,
                        v.pass ? "pass" : "FAIL");
+    if (v.variance_tested)
+      out += fmt::format("    variance: measured {:.6g}, predicted {:.6g} (mean per pixel), z {:.3f}, {} pixel failures, "
+                         "detectable {:.3g}%\n",
+                         v.measured_variance, v.predicted_variance, v.variance_z, v.variance_pixel_failures,
+                         100 * v.variance_detectable_rel_error);
     if (!v.pass)
       out += fmt::format("    worst pixel ({}, {}): mean {:.6g}, reference {:.6g}, sample variance {:.3g}, |t| {:.3g}\n",
                          v.worst_px, v.worst_py, v.worst_pixel_mean, v.worst_pixel_reference,

@@ -57,6 +57,15 @@ struct Verdict {
   int worst_px = 0, worst_py = 0;
   double worst_pixel_mean = 0, worst_pixel_reference = 0, worst_pixel_sample_variance = 0;
   double median_pixel_detectable_rel_bias = 0;
+  // Variance tests against the analytic second moment (strategies that
+  // analytic/moments.h models, on scenes it solves): per pixel (those valid
+  // for the mean test) and for the sum over pixels of s² − σ².
+  bool variance_tested = false;
+  double measured_variance = 0;    // mean over pixels of the per-sample s²
+  double predicted_variance = 0;   // mean over pixels of E[Y²] − E[Y]²
+  double variance_z = 0;           // aggregate (Σ s² − Σ σ²)/√(Σ Var s²)
+  double variance_detectable_rel_error = 0;  // of the aggregate, at kReportedPower
+  int variance_pixel_failures = 0;
   double rmse = 0;                  // √(mean over pixels of (estimate − reference)²)
   uint64_t nonfinite_samples = 0;
   double seconds = 0;               // render wall time
@@ -65,7 +74,8 @@ struct Verdict {
 };
 
 // Runs one case. `per_case_alpha` is the family-wise level of this case's
-// P + 1 tests (P pixel tests and the image-mean test).
+// P + 1 mean tests (P pixel tests and the image-mean test) and, where the
+// strategy's variance is modelled, its P + 1 variance tests.
 Verdict run_case(const Case& c, double per_case_alpha);
 
 // The built-in suite `furnace verify` runs when no scene is given: each
