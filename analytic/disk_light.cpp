@@ -30,7 +30,12 @@ void unsupported_configuration(const Scene& scene, const std::string& what) {
 }
 
 std::optional<DiskLightView> disk_light_view(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
-                                             std::optional<size_t> receiver) {
+                                             std::optional<size_t> receiver, std::string* unsupported_reason) {
+  auto refuse = [&](const std::string& what) -> std::optional<DiskLightView> {
+    if (!unsupported_reason) unsupported_configuration(scene, what);
+    *unsupported_reason = what;
+    return std::nullopt;
+  };
   const Object& light_object = scene.objects[light_index];
   const Disk& light = std::get<Disk>(light_object.shape);
   Vec3 emitting_normal = normalize(light.normal);
@@ -44,8 +49,7 @@ std::optional<DiskLightView> disk_light_view(const Scene& scene, size_t light_in
   const Vec3 w = -emitting_normal;     // from p towards the emitter plane
   if (!parallel(n, emitting_normal)) {
     if (height_range(light_object.shape, p, n).hi <= 0) return std::nullopt;  // wholly below the horizon
-    unsupported_configuration(scene, "the receiver normal at " + point_text(p) + " tilted against the disk light '" +
-                                         light_object.name + "'");
+    return refuse("the receiver normal at " + point_text(p) + " tilted against the disk light '" + light_object.name + "'");
   }
   if (dot(n, w) < 0) return std::nullopt;  // receiver faces away: the light is below its horizon
 
@@ -72,8 +76,8 @@ std::optional<DiskLightView> disk_light_view(const Scene& scene, size_t light_in
       continue;
     }
     if (!ball_may_meet_disk_cone(bounding_sphere(object.shape), p, w, h, light_offset, light.radius)) continue;
-    unsupported_configuration(scene, "object '" + object.name + "', which may block part of the disk light '" +
-                                         light_object.name + "' and is not a disk parallel to it,");
+    return refuse("object '" + object.name + "', which may block part of the disk light '" + light_object.name +
+                  "' and is not a disk parallel to it,");
   }
   return view;
 }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "analytic/circle_region.h"
@@ -29,9 +30,12 @@ struct DiskLightView {
 // must provably miss the cone from p to the light (height range outside
 // (0, h), or bounding ball outside the cone); otherwise, and for a receiver
 // tilted against a light that crosses its horizon or lies above it, throws
-// furnace::Error naming the scene and the object.
+// furnace::Error naming the scene and the object — or, when
+// `unsupported_reason` is given, stores the reason there and returns empty
+// (so a caller can fall back to the general exact path, planar_light.h).
 std::optional<DiskLightView> disk_light_view(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
-                                             std::optional<size_t> receiver);
+                                             std::optional<size_t> receiver,
+                                             std::string* unsupported_reason = nullptr);
 
 // "<scene name> (<source>): <what> is outside what the analytic references
 // solve exactly." as a furnace::Error.

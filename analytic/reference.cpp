@@ -11,7 +11,7 @@
 #include "analytic/environment.h"
 #include "analytic/intersect.h"
 #include "analytic/occlusion.h"
-#include "analytic/polygon.h"
+#include "analytic/planar_light.h"
 #include "analytic/sphere.h"
 #include "core/error.h"
 
@@ -30,14 +30,6 @@ std::optional<Hit> intersect(const Scene& scene, const Vec3& origin, const Vec3&
 
 namespace {
 
-// The four corners (rectangle) or three vertices (triangle) of a planar emitter.
-std::vector<Vec3> polygon_vertices(const Shape& shape) {
-  if (const auto* r = std::get_if<Rectangle>(&shape))
-    return {r->corner, r->corner + r->edge_u, r->corner + r->edge_u + r->edge_v, r->corner + r->edge_v};
-  const auto& t = std::get<Triangle>(shape);
-  return {t.p0, t.p1, t.p2};
-}
-
 // Refuses the configuration unless no object other than the light and the
 // receiver can meet the hull of p and the light's bounding ball above p's
 // horizon (objects wholly below the horizon block only directions with
@@ -54,20 +46,6 @@ void require_unblocked(const Scene& scene, size_t light_index, const Vec3& p, co
     unsupported_configuration(scene, "object '" + object.name + "', which may block part of the emitter '" + light.name +
                                          "' (only disk occluders of parallel disk lights are solved so far),");
   }
-}
-
-// E/L from a planar polygon emitter, one-sided unless two_sided.
-double polygon_light_irradiance(const Scene& scene, size_t i, const Vec3& p, const Vec3& n,
-                                std::optional<size_t> receiver) {
-  const Object& light = scene.objects[i];
-  std::vector<Vec3> vertices = polygon_vertices(light.shape);
-  const Vec3 front = cross(vertices[1] - vertices[0], vertices[2] - vertices[0]);
-  const double side = dot(p - vertices[0], front);
-  if (side == 0 || (side < 0 && !light.two_sided)) return 0.0;  // in its plane, or behind a one-sided light
-  for (Vec3& v : vertices) v -= p;
-  if (clip_to_hemisphere(vertices, n).size() < 3) return 0.0;  // wholly below the horizon
-  require_unblocked(scene, i, p, n, receiver);
-  return polygon_irradiance(vertices, n);
 }
 
 // E/L from a sphere emitter seen from outside (its front is its outside).
@@ -94,12 +72,17 @@ double irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optiona
     if (!object.is_emitter() || (receiver && i == *receiver)) continue;
     double e_over_l = 0;
     if (std::holds_alternative<Disk>(object.shape)) {
-      if (const auto view = disk_light_view(scene, i, p, n, receiver))
+      // Fast path (hand-rolled circle Booleans, closed-form arcs); the general
+      // exact path when it does not apply.
+      std::string reason;
+      if (const auto view = disk_light_view(scene, i, p, n, receiver, &reason))
         e_over_l = occluded_disk_irradiance(view->h, view->light, view->occluder_images);
+      else if (!reason.empty())
+        e_over_l = planar_light_irradiance(scene, i, p, n, receiver);
     } else if (std::holds_alternative<Sphere>(object.shape)) {
       e_over_l = sphere_light_irradiance(scene, i, p, n, receiver);
     } else {
-      e_over_l = polygon_light_irradiance(scene, i, p, n, receiver);
+      e_over_l = planar_light_irradiance(scene, i, p, n, receiver);
     }
     e += object.emitted_radiance * e_over_l;
   }

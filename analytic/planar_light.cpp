@@ -1,0 +1,156 @@
+#include "analytic/planar_light.h"
+
+#include <cmath>
+#include <string>
+#include <variant>
+
+#include <boost/math/quadrature/gauss_kronrod.hpp>
+
+#include "analytic/disk.h"
+#include "analytic/disk_light.h"
+#include "analytic/occlusion.h"
+#include "analytic/polygon.h"
+
+namespace furnace::analytic {
+
+namespace {
+
+// As in disk_light.cpp: |n₁ × n₂| below this counts as parallel.
+constexpr double kParallelSine = 1e-12;
+
+std::vector<Vec3> polygon_vertices(const Shape& shape) {
+  if (const auto* r = std::get_if<Rectangle>(&shape))
+    return {r->corner, r->corner + r->edge_u, r->corner + r->edge_u + r->edge_v, r->corner + r->edge_v};
+  const auto& t = std::get<Triangle>(shape);
+  return {t.p0, t.p1, t.p2};
+}
+
+// The part of a polygon with height z(x) = dot(x − p, w) ≤ h (Sutherland–Hodgman).
+std::vector<Vec3> clip_below(const std::vector<Vec3>& v, const Vec3& p, const Vec3& w, double h) {
+  std::vector<Vec3> out;
+  for (size_t i = 0; i < v.size(); ++i) {
+    const Vec3& a = v[i];
+    const Vec3& b = v[(i + 1) % v.size()];
+    const double da = h - dot(a - p, w), db = h - dot(b - p, w);
+    if (da >= 0) out.push_back(a);
+    if ((da > 0 && db < 0) || (da < 0 && db > 0)) out.push_back(a + (b - a) * (da / (da - db)));
+  }
+  return out;
+}
+
+}  // namespace
+
+double contour_irradiance(const Vec3& origin, const Vec3& e1, const Vec3& e2, const std::vector<Curve2>& boundary,
+                          const Vec3& p, const Vec3& n) {
+  using boost::math::quadrature::gauss_kronrod;
+  auto world = [&](double x, double y) { return origin + e1 * x + e2 * y - p; };  // relative to p
+  double sum = 0;
+  for (const Curve2& c : boundary) {
+    if (!c.is_arc) {
+      // Lambert's edge term Θ·(n·unit(a × b)), Θ by atan2.
+      const Vec3 a = world(c.start.x, c.start.y), b = world(c.end.x, c.end.y);
+      const Vec3 axb = cross(a, b);
+      const double len = length(axb);
+      if (len > 0) sum += std::atan2(len, dot(a, b)) * (dot(n, axb) / len);
+      continue;
+    }
+    const Circle2& k = c.circle;
+    auto integrand = [&](double t) {
+      const double ct = std::cos(t), st = std::sin(t);
+      const Vec3 x = world(k.cx + k.radius * ct, k.cy + k.radius * st);
+      const Vec3 dx = (e2 * ct - e1 * st) * k.radius;
+      return dot(n, cross(x, dx)) / length_squared(x);
+    };
+    const double lo = std::fmin(c.t0, c.t0 + c.sweep), hi = std::fmax(c.t0, c.t0 + c.sweep);
+    const double value = gauss_kronrod<double, 61>::integrate(integrand, lo, hi, 15, 1e-14);
+    sum += c.sweep >= 0 ? value : -value;
+  }
+  return 0.5 * std::fabs(sum);
+}
+
+double planar_light_irradiance(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
+                               std::optional<size_t> receiver) {
+  const Object& light = scene.objects[light_index];
+  const Disk* disk = std::get_if<Disk>(&light.shape);
+  if (std::holds_alternative<Sphere>(light.shape))
+    unsupported_configuration(scene, "the sphere light '" + light.name + "' on the planar-light path");
+
+  // Emitting face towards p, height h of p above the light's plane.
+  const std::vector<Vec3> light_vertices = disk ? std::vector<Vec3>{} : polygon_vertices(light.shape);
+  const Vec3 on_light = disk ? disk->center : light_vertices[0];
+  Vec3 front = disk ? normalize(disk->normal)
+                    : normalize(cross(light_vertices[1] - light_vertices[0], light_vertices[2] - light_vertices[0]));
+  double h = dot(p - on_light, front);
+  if (h < 0 && light.two_sided) front = -front, h = -h;
+  if (!(h > 0)) return 0.0;
+  const ZRange over_horizon = height_range(light.shape, p, n);
+  if (over_horizon.hi <= 0) return 0.0;
+
+  // 2-D frame of the light plane, origin at p's foot point.
+  const Vec3 w = -front;
+  const Frame frame = Frame::from_normal(front);
+  const Vec3 foot = p - front * h;
+  auto to_2d = [&](const Vec3& x) { return Point2{dot(x - foot, frame.s), dot(x - foot, frame.t)}; };
+
+  Region2 light_region;
+  if (disk) {
+    const Point2 c = to_2d(disk->center);
+    light_region.circle = Circle2{c.x, c.y, disk->radius};
+  } else {
+    for (const Vec3& v : light_vertices) light_region.polygon.push_back(to_2d(v));
+  }
+  std::optional<HalfPlane2> keep;
+  if (over_horizon.lo < 0) keep = HalfPlane2{dot(n, frame.s), dot(n, frame.t), dot(n, foot - p)};
+
+  std::vector<Region2> occluders;
+  const BoundingSphere light_ball = bounding_sphere(light.shape);
+  for (size_t j = 0; j < scene.objects.size(); ++j) {
+    if (j == light_index || (receiver && j == *receiver)) continue;
+    const Object& object = scene.objects[j];
+    if (height_range(object.shape, p, n).hi <= 0) continue;  // wholly below the horizon
+    const ZRange z = height_range(object.shape, p, w);
+    if (z.hi <= 0 || z.lo >= h) continue;  // behind p's parallel plane or beyond the light's
+    if (!ball_may_meet_ball_cone(bounding_sphere(object.shape), p, light_ball)) continue;
+    const Disk* occluder_disk = std::get_if<Disk>(&object.shape);
+    if (occluder_disk && length(cross(normalize(occluder_disk->normal), front)) <= kParallelSine) {
+      const double scale = h / dot(occluder_disk->center - p, w);
+      const Point2 c = to_2d(p + (occluder_disk->center - p) * scale);
+      occluders.push_back({{}, Circle2{c.x, c.y, occluder_disk->radius * scale}});
+      continue;
+    }
+    if (std::holds_alternative<Rectangle>(object.shape) || std::holds_alternative<Triangle>(object.shape)) {
+      const std::vector<Vec3> clipped = clip_below(polygon_vertices(object.shape), p, w, h);
+      Region2 image;
+      bool in_front = clipped.size() >= 3;
+      for (const Vec3& v : clipped) {
+        const double zv = dot(v - p, w);
+        in_front = in_front && zv > 0;
+        if (in_front) image.polygon.push_back(to_2d(p + (v - p) * (h / zv)));
+      }
+      if (!in_front)
+        unsupported_configuration(scene, "object '" + object.name + "', which reaches p's plane while it may block the light '" +
+                                             light.name + "',");
+      occluders.push_back(image);
+      continue;
+    }
+    unsupported_configuration(scene, "object '" + object.name + "' (a sphere or a tilted disk) which may block the light '" +
+                                         light.name + "'");
+  }
+
+  if (occluders.empty() && !keep) {
+    // Closed forms: Lambert for polygons; Howell's disk when n is parallel to the light.
+    if (!disk) {
+      std::vector<Vec3> relative;
+      for (const Vec3& v : light_vertices) relative.push_back(v - p);
+      return polygon_irradiance(relative, n);
+    }
+    if (length(cross(n, front)) <= kParallelSine) {
+      const Point2 c = to_2d(disk->center);
+      return disk_irradiance_parallel(disk->radius, h, std::hypot(c.x, c.y));
+    }
+  }
+  const std::vector<Curve2> boundary = exact_visible_boundary(light_region, occluders, keep);
+  return contour_irradiance(foot, frame.s, frame.t, boundary, p, n);
+}
+
+}  // namespace furnace::analytic

@@ -1,0 +1,43 @@
+// The general exact path for planar emitters (disks, rectangles, triangles):
+// any receiver orientation (horizon clipping included), occluders that are
+// disks parallel to the light or planar polygons. The visible region in the
+// light's plane comes from exact Boolean operations (exact_region.h) and the
+// irradiance from the vector form of the contour integral over its boundary.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "analytic/exact_region.h"
+#include "core/scene.h"
+
+namespace furnace::analytic {
+
+// E/L = ∫_A cos θ·cos θ'/r² dA for a planar region A in the plane through
+// `origin` spanned by the orthonormal e1, e2, lying wholly on the upper side
+// of p's horizon (n·(x − p) ≥ 0 on A), given its positively oriented
+// boundary in (e1, e2) coordinates:
+//   E/L = |½ n·∮_∂A (x − p) × dx / |x − p|²|.
+// Derivation: the vector irradiance of a region bounded by a closed curve,
+// Φ = ∫ (x−p)/|x−p|·dω, equals ½∮ (x−p)×dx/|x−p|² (Stokes on the unit sphere;
+// for straight edges it is Lambert's Σ Θ_i·unit(v_i × v_{i+1}), Arvo 1995).
+// Straight edges use that closed form (atan2 angle); arcs are integrated by
+// adaptive Gauss–Kronrod (61 points, relative tolerance 1e-14).
+double contour_irradiance(const Vec3& origin, const Vec3& e1, const Vec3& e2, const std::vector<Curve2>& boundary,
+                          const Vec3& p, const Vec3& n);
+
+// E/L at p (unit normal n) from emitter `light_index` (Disk, Rectangle or
+// Triangle; one-sided unless two_sided), seen past the other objects
+// (`receiver` excluded). Objects wholly below p's horizon, wholly behind p
+// or beyond the light's plane, or whose bounding ball misses the hull of p
+// and the light's bounding ball, are ignored. The rest must be disks
+// parallel to the light (projected as circles) or rectangles/triangles lying
+// strictly in front of p's plane parallel to the light (projected centrally
+// onto the light plane as polygons, after clipping at the light plane);
+// throws furnace::Error otherwise (tilted disks and spheres project to
+// ellipses, which the circle–segment Booleans do not represent).
+// Returns exactly 0 when nothing is visible.
+double planar_light_irradiance(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
+                               std::optional<size_t> receiver);
+
+}  // namespace furnace::analytic
