@@ -1,0 +1,127 @@
+// Calibration of the statistical tests themselves (label `slow`): over
+// kTrials independent seeds, a test at level kTestAlpha must reject a true
+// hypothesis at rate ≈ kTestAlpha (false alarms), and a mean shifted by the
+// reported detectable bias at rate ≈ kDefaultPower (power). Each measured rate
+// is compared with its nominal value by an exact two-sided binomial test
+// (Boost binomial) at kCalibrationAlpha.
+//
+// Seeds are fixed (kFirstSeed, kFirstSeed + 1, ...), so the verdicts are fixed too.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <string>
+
+#include "renderer/rng.h"
+#include "renderer/sampling.h"
+#include "tests/verify/sample_moments.h"
+#include "verify/chi2.h"
+#include "verify/statistics.h"
+
+namespace furnace::stats {
+namespace {
+
+using testing_support::draw;
+using testing_support::exponential;
+using testing_support::Moments;
+using testing_support::uniform;
+
+constexpr size_t kTrials = 400;
+constexpr uint64_t kFirstSeed = 0xca11b000;
+// Level of the tests under calibration: large, so that kTrials trials see
+// ~20 false alarms and a rate off by a factor 2 is resolved.
+constexpr double kTestAlpha = 0.05;
+// Level of each binomial calibration check (6 checks: family ≈ 0.6 %).
+constexpr double kCalibrationAlpha = 1e-3;
+
+void report(const std::string& what, const RejectionRate& r) {
+  std::cout << "  " << what << ": " << r.rejections << "/" << r.trials << " = " << r.rate << " (nominal "
+            << r.expected_rate << ", 95% CI [" << r.ci_low << ", " << r.ci_high << "], binomial p "
+            << r.binomial_p_value << ")\n";
+  testing::Test::RecordProperty(what + "_rate", std::to_string(r.rate));
+  testing::Test::RecordProperty(what + "_binomial_p", std::to_string(r.binomial_p_value));
+}
+
+// Exp(1) samples, N = 1000 per trial, true mean 1.
+TEST(Calibration, MeanTestFalseAlarmRate) {
+  const RejectionRate r = measure_rejection_rate(
+      [](uint64_t seed) {
+        const Moments m = draw(seed, 1, 1000, exponential);
+        return !mean_test(m.count, m.mean, m.sample_variance(), 1.0, kTestAlpha).pass;
+      },
+      kTrials, kTestAlpha, kFirstSeed);
+  report("mean_test_false_alarm", r);
+  EXPECT_GE(r.binomial_p_value, kCalibrationAlpha);
+}
+
+// U[0,1) samples, N = 1000 per trial, tested against 1/2 − δ where
+// δ = (t_{1−α/2} + t_{power})·σ/√N with the true σ² = 1/12: the rejection
+// rate must match the power the test claims.
+TEST(Calibration, MeanTestPowerAtDetectableBias) {
+  constexpr uint64_t kN = 1000;
+  const double sigma = std::sqrt(1.0 / 12.0);
+  // The claimed detectable bias at the true σ (the mean and s² passed here only fix SE).
+  const double delta = mean_test(kN, 0.5, sigma * sigma, 0.5, kTestAlpha).detectable_bias;
+  const RejectionRate r = measure_rejection_rate(
+      [delta](uint64_t seed) {
+        const Moments m = draw(seed, 2, kN, uniform);
+        return !mean_test(m.count, m.mean, m.sample_variance(), 0.5 - delta, kTestAlpha).pass;
+      },
+      kTrials, kDefaultPower, kFirstSeed);
+  report("mean_test_power", r);
+  EXPECT_GE(r.binomial_p_value, kCalibrationAlpha);
+}
+
+// U[0,1) (light tails) and Exp(1) (μ4 = 9σ⁴), N = 10 000 per trial.
+TEST(Calibration, VarianceTestFalseAlarmRate) {
+  const RejectionRate light = measure_rejection_rate(
+      [](uint64_t seed) {
+        const Moments m = draw(seed, 3, 10000, uniform);
+        return !variance_test(moment_sums(m), 1.0 / 12.0, kTestAlpha).pass;
+      },
+      kTrials, kTestAlpha, kFirstSeed);
+  report("variance_test_uniform_false_alarm", light);
+  EXPECT_GE(light.binomial_p_value, kCalibrationAlpha);
+  const RejectionRate heavy = measure_rejection_rate(
+      [](uint64_t seed) {
+        const Moments m = draw(seed, 4, 10000, exponential);
+        return !variance_test(moment_sums(m), 1.0, kTestAlpha).pass;
+      },
+      kTrials, kTestAlpha, kFirstSeed);
+  report("variance_test_exponential_false_alarm", heavy);
+  EXPECT_GE(heavy.binomial_p_value, kCalibrationAlpha);
+}
+
+// Exp(1), N = 2000, vs U[0,2), N = 500: equal means, unequal variances and sizes.
+TEST(Calibration, WelchFalseAlarmRate) {
+  const RejectionRate r = measure_rejection_rate(
+      [](uint64_t seed) {
+        const SampleSummary a = draw(seed, 5, 2000, exponential).summary();
+        const SampleSummary b = draw(seed, 6, 500, [](double u) { return 2 * u; }).summary();
+        return !comparison_test(a, b, kTestAlpha).pass;
+      },
+      kTrials, kTestAlpha, kFirstSeed);
+  report("welch_false_alarm", r);
+  EXPECT_GE(r.binomial_p_value, kCalibrationAlpha);
+}
+
+// Cosine-hemisphere samples (renderer warp), N = 100 000 per trial, 21×10 cells.
+TEST(Calibration, Chi2FalseAlarmRate) {
+  const DirectionalChi2 chi2(cosine_hemisphere_pdf, SphericalGrid::hemisphere(10));
+  const RejectionRate r = measure_rejection_rate(
+      [&chi2](uint64_t seed) {
+        Rng rng(seed, 7, 0);
+        std::vector<Vec3> samples(100000);
+        for (Vec3& w : samples) {
+          const double u1 = rng.next_double();
+          w = sample_cosine_hemisphere(u1, rng.next_double());
+        }
+        return !chi2.test(samples, kTestAlpha, 1).pass;
+      },
+      kTrials, kTestAlpha, kFirstSeed);
+  report("chi2_false_alarm", r);
+  EXPECT_GE(r.binomial_p_value, kCalibrationAlpha);
+}
+
+}  // namespace
+}  // namespace furnace::stats

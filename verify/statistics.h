@@ -1,0 +1,211 @@
+// Hypothesis tests that compare Monte Carlo estimates with exact references.
+//
+// Every test here takes its quantiles from Boost.Math (never typed in), runs at
+// a per-test level α that the caller derives from a family-wise level by the
+// Šidák (or Bonferroni) correction, and reports its power: the smallest bias
+// it detects with probability kDefaultPower (the "minimum detectable effect").
+// Inputs are plain numbers (count, mean, central-moment sums), so this file
+// does not depend on renderer/.
+//
+// Models: Subr & Arvo 2007 (hypothesis tests for Monte Carlo estimators),
+// Nori's ttest, Mitsuba's test_renders. Ideas only.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace furnace::stats {
+
+// Power at which detectable effects are quoted: the bias a test catches with
+// probability 1 − β. β = 0.1 (power 0.9) is the usual design power in
+// experiment planning; at power 0.5 the detectable bias would be just the
+// critical value times the standard error, which a real bias of that size
+// escapes half the time.
+inline constexpr double kDefaultBeta = 0.1;
+inline constexpr double kDefaultPower = 1.0 - kDefaultBeta;
+
+// A zero-variance estimator (e.g. cone sampling of an unoccluded sphere light)
+// must reproduce the reference exactly, up to float geometry: Embree hits are
+// within ~2 float steps of the exact distance (TOOLCHAIN.md), and the hit point
+// enters the estimate through squared distances, cosines and a solid angle,
+// each multiplying the relative error by a small factor. 64 float epsilons
+// (7.6e-6) covers that chain with margin, yet is far below any bias a
+// statistical test at realistic sample counts could resolve.
+inline constexpr double kZeroVarianceRelTolerance = 64 * 1.1920928955078125e-7;  // 64 · FLT_EPSILON
+
+// ---------------------------------------------------------------------------
+// Family-wise corrections: the per-test level that keeps the probability of
+// any false alarm among n independent tests at alpha_family.
+
+// Šidák: 1 − (1 − α)^(1/n), computed as −expm1(log1p(−α)/n) so that tiny
+// per-test levels (α/n ~ 1e-9) keep all their digits.
+double sidak_alpha(double alpha_family, size_t n_tests);
+// Bonferroni: α/n. Valid without independence; slightly conservative.
+double bonferroni_alpha(double alpha_family, size_t n_tests);
+
+// ---------------------------------------------------------------------------
+// One-sample mean test: is the true mean of an estimator equal to the
+// reference? Student's t with N − 1 degrees of freedom (the z-test for large
+// N), two-sided.
+
+struct MeanTestResult {
+  uint64_t count = 0;
+  double mean = 0;
+  double reference = 0;
+  double standard_error = 0;   // s/√N
+  double statistic = 0;        // t = (mean − reference)/SE; 0 in the zero-variance branch
+  double dof = 0;              // N − 1
+  double p_value = 0;          // two-sided
+  double alpha = 0;            // the per-test level used
+  double threshold = 0;        // |t| above this fails: t_{1−α/2, N−1}
+  // Smallest |bias| rejected with probability `power`:
+  // δ = (t_{1−α/2} + t_{power}) · SE (the far tail's contribution neglected).
+  double detectable_bias = 0;
+  double detectable_relative_bias = 0;  // δ/|reference|; +inf when reference == 0
+  bool zero_variance = false;  // s = 0: exact agreement within kZeroVarianceRelTolerance required
+  bool pass = false;
+  std::string message;         // one sentence: why it failed, or the zero-variance branch taken
+};
+
+// count: N samples; mean, sample_variance: their mean and unbiased variance
+// s² = Σ(y − ȳ)²/(N − 1); alpha: per-test level in (0, 1).
+// Fails (pass = false, message says why) when N < 2, an input is not finite,
+// or s = 0 and the mean differs from the reference by more than
+// kZeroVarianceRelTolerance·|reference| (exact equality when reference == 0).
+MeanTestResult mean_test(uint64_t count, double mean, double sample_variance, double reference, double alpha,
+                         double power = kDefaultPower);
+
+// Normal (z) test of an estimate with a known or already-aggregated standard
+// error, e.g. the mean of an image over its pixels. Same zero-SE rule.
+struct ZTestResult {
+  double statistic = 0;
+  double p_value = 0;
+  double alpha = 0;
+  double threshold = 0;                 // z_{1−α/2}
+  double standard_error = 0;
+  double detectable_bias = 0;           // (z_{1−α/2} + z_{power})·SE
+  double detectable_relative_bias = 0;  // δ/|reference|; +inf when reference == 0
+  bool zero_variance = false;
+  bool pass = false;
+  std::string message;
+};
+ZTestResult z_test(double estimate, double reference, double standard_error, double alpha,
+                   double power = kDefaultPower);
+
+// ---------------------------------------------------------------------------
+// Variance test: is the estimator's true variance the predicted σ² (from an
+// analytic second moment, σ² = E[Y²] − E[Y]²)?
+//
+// s² = m2/(N − 1). Its standard error comes from the fourth central moment
+// (Cramér): Var(s²) ≈ (μ4 − (N−3)/(N−1)·σ⁴)/N, with the plug-in estimates
+// μ4 ≈ m4/N and σ⁴ ≈ s⁴; with these the bracket is provably > 0 whenever
+// m2 > 0. The statistic (s² − σ²)/SE is compared with the normal
+// distribution. Asymptotic: the estimate of μ4 is itself noisy, so heavy
+// tails make the test optimistic; require at least kMinVarianceTestSamples.
+
+// Below this the normal approximation of s² and the plug-in μ4 are poor.
+inline constexpr uint64_t kMinVarianceTestSamples = 100;
+
+// Running central-moment sums, as renderer/render.h's PixelMoments keeps them.
+struct MomentSums {
+  uint64_t count = 0;
+  double mean = 0;
+  double m2 = 0;  // Σ (y − ȳ)²
+  double m4 = 0;  // Σ (y − ȳ)⁴
+};
+// Any type with count, mean, m2, m4 fields (e.g. PixelMoments).
+template <class Moments>
+MomentSums moment_sums(const Moments& m) {
+  return {uint64_t(m.count), double(m.mean), double(m.m2), double(m.m4)};
+}
+
+struct VarianceTestResult {
+  uint64_t count = 0;
+  double sample_variance = 0;     // s²
+  double predicted_variance = 0;  // σ²
+  double standard_error = 0;      // SE of s²
+  double statistic = 0;           // (s² − σ²)/SE
+  double p_value = 0;
+  double alpha = 0;
+  double threshold = 0;           // z_{1−α/2}
+  // Smallest relative variance error |s² − σ²|/σ² detected with `power`.
+  double detectable_relative_error = 0;
+  bool zero_variance = false;     // σ² == 0 predicted: s must be ≤ kZeroVarianceRelTolerance·|mean|
+  bool pass = false;
+  std::string message;
+};
+VarianceTestResult variance_test(const MomentSums& m, double predicted_variance, double alpha,
+                                 double power = kDefaultPower);
+
+// ---------------------------------------------------------------------------
+// Many mean tests at once (e.g. every pixel), each at the Šidák level that
+// keeps the family-wise false-alarm probability at alpha_family.
+
+struct SampleSummary {
+  uint64_t count = 0;
+  double mean = 0;
+  double sample_variance = 0;  // unbiased
+};
+
+struct MeanTestSummary {
+  size_t tests = 0;
+  double alpha_family = 0;
+  double alpha_each = 0;
+  size_t failures = 0;
+  double worst_abs_statistic = 0;  // largest |t| (zero-variance tests count as 0 unless they fail: +inf)
+  size_t worst_index = 0;
+  // Median over tests with a nonzero reference of the detectable relative bias.
+  double median_detectable_relative_bias = 0;
+  bool pass = false;  // no failures
+};
+
+// summaries[i] is tested against references[i]; sizes must match.
+MeanTestSummary mean_tests(const std::vector<SampleSummary>& summaries, const std::vector<double>& references,
+                           double alpha_family, double power = kDefaultPower);
+
+// ---------------------------------------------------------------------------
+// Welch's t-test: do two independent estimators (e.g. Russian roulette on and
+// off) have the same mean? Unequal variances, Welch–Satterthwaite d.o.f.
+
+struct ComparisonTestResult {
+  double difference = 0;      // mean_a − mean_b
+  double standard_error = 0;  // √(s_a²/N_a + s_b²/N_b)
+  double statistic = 0;
+  double dof = 0;
+  double p_value = 0;
+  double alpha = 0;
+  double threshold = 0;
+  double detectable_difference = 0;           // with `power`
+  double detectable_relative_difference = 0;  // relative to |mean_b|
+  bool zero_variance = false;
+  bool pass = false;
+  std::string message;
+};
+ComparisonTestResult comparison_test(const SampleSummary& a, const SampleSummary& b, double alpha,
+                                     double power = kDefaultPower);
+
+// ---------------------------------------------------------------------------
+// Calibration: the empirical false-alarm (or rejection) rate of a test.
+//
+// `rejects(seed)` runs one complete test on data generated from `seed` and
+// returns true if it rejected. Seeds first_seed, first_seed + 1, ... are used.
+// The observed count is compared with Binomial(trials, expected_rate) by a
+// two-sided test (twice the smaller tail, capped at 1).
+struct RejectionRate {
+  size_t trials = 0;
+  size_t rejections = 0;
+  double rate = 0;
+  double expected_rate = 0;
+  double ci_low = 0, ci_high = 0;  // Clopper–Pearson interval at ci_level
+  double ci_level = 0;
+  double binomial_p_value = 0;     // H0: rate == expected_rate
+};
+RejectionRate measure_rejection_rate(const std::function<bool(uint64_t seed)>& rejects, size_t trials,
+                                     double expected_rate, uint64_t first_seed = 1, double ci_level = 0.95);
+// Two-sided exact binomial p-value of k successes in n trials at rate p.
+double binomial_two_sided_p_value(size_t k, size_t n, double p);
+
+}  // namespace furnace::stats
