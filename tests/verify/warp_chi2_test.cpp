@@ -35,6 +35,11 @@ constexpr int kGridK = 20;  // (2k+1)·k = 41×20 cells: ≥ 60 expected per cel
 constexpr double kWrongNormalisation = 1.02;  // the pdf claims 2 % too much everywhere
 constexpr double kWiderCone = 1.02;           // the pdf's cone has 2 % more solid angle than the sampler's
 
+// Check of ∫pdf = 1 over the grid. Cells cut diagonally by the support's edge
+// (the triangle's hypotenuse) converge to ~1e-7 only; 1e-6 is still four
+// orders below the normalisation errors the chi-square itself resolves.
+constexpr double kPdfIntegralTolerance = 1e-6;
+
 using Sampler = std::function<Vec3(double u1, double u2)>;
 
 struct DirectionCase {
@@ -179,7 +184,7 @@ TEST_P(WarpChi2, SamplesFollowTheirPdf) {
   const Chi2Result r = chi2.test(draw<Vec3>(stream_of(c.name), c.sample), kFamilyAlpha, family_size());
   report(r);
   EXPECT_TRUE(r.pass) << r.message;
-  EXPECT_NEAR(r.pdf_integral, 1.0, 1e-9) << "the pdf does not integrate to 1 over its support";
+  EXPECT_NEAR(r.pdf_integral, 1.0, kPdfIntegralTolerance) << "the pdf does not integrate to 1 over its support";
 }
 
 INSTANTIATE_TEST_SUITE_P(Warps, WarpChi2, testing::ValuesIn(correct_cases()), case_name);
@@ -193,7 +198,7 @@ TEST_P(PlanarWarpChi2, SamplesFollowTheirPdf) {
       chi2.test(draw<std::array<double, 2>>(stream_of(c.name), c.sample), kFamilyAlpha, family_size());
   report(r);
   EXPECT_TRUE(r.pass) << r.message;
-  EXPECT_NEAR(r.pdf_integral, 1.0, 1e-9) << "the pdf does not integrate to 1 over its support";
+  EXPECT_NEAR(r.pdf_integral, 1.0, kPdfIntegralTolerance) << "the pdf does not integrate to 1 over its support";
 }
 
 INSTANTIATE_TEST_SUITE_P(Warps, PlanarWarpChi2, testing::ValuesIn(planar_cases()), planar_name);
