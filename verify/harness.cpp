@@ -55,6 +55,10 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
   everything.insert(everything.end(), paths.begin(), paths.end());
   const std::vector<Entry> entries = {
       {"disk_occluder.json", everything, analytic::kUnlimitedSegments},
+      {"sphere_light.json", direct, analytic::kUnlimitedSegments},
+      {"rectangle_light.json", direct, analytic::kUnlimitedSegments},
+      {"environment_blocker.json", direct, analytic::kUnlimitedSegments},
+      {"three_lights.json", everything, analytic::kUnlimitedSegments},
       {"white_furnace.json", paths, analytic::kUnlimitedSegments},
       {"convex_furnace.json", paths, analytic::kUnlimitedSegments},
       {"enclosure_box.json", paths, analytic::kUnlimitedSegments},
