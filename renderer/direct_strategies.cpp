@@ -5,17 +5,10 @@
 
 #include "core/error.h"
 #include "renderer/sampling.h"
-#include "renderer/spherical_sampling.h"
 
 namespace furnace {
 
 namespace {
-
-// DEFECT(pdf_off_by_constant): the pdf used in the weight is 1.1× the true one.
-constexpr double kDefectPdfFactor = 1.1;
-double pdf_in_weight(double pdf_solid_angle, Defect defect) {
-  return defect == Defect::kPdfOffByConstant ? kDefectPdfFactor * pdf_solid_angle : pdf_solid_angle;
-}
 
 DirectionSample local_direction_sample(const ShadingContext& ctx, const Vec3& wi_local, double pdf_solid_angle,
                                        Defect defect) {
@@ -24,119 +17,6 @@ DirectionSample local_direction_sample(const ShadingContext& ctx, const Vec3& wi
   s.pdf_solid_angle = pdf_solid_angle;
   s.weight = ctx.bsdf.eval(ctx.wo_local, wi_local) * std::fmax(wi_local.z, 0.0) / pdf_in_weight(pdf_solid_angle, defect);
   return s;
-}
-
-// ---------------------------------------------------------------------------
-// Sampling one emitter, by area or by solid angle. The choice of method is a
-// function of (shape, viewpoint, mode) only, so sample() and pdf() agree.
-
-struct ConeSetup {
-  Frame frame;  // z towards the sphere's centre
-  ConeAperture aperture;
-};
-using EmitterMethod = std::variant<std::monostate, ConeSetup, SphericalTriangleSampler, SphericalRectangleSampler>;
-
-// cos θ' at a light point: signed for one-sided lights (the back has no
-// emission, so no density), absolute for two-sided ones.
-double light_cosine(const Vec3& light_normal, const Vec3& wi, bool two_sided) {
-  const double c = dot(light_normal, -wi);
-  return two_sided ? std::fabs(c) : c;
-}
-
-// `self`: the shading point lies on this emitter. A sphere cannot use its cone
-// from its own surface (only a two-sided sphere seen from inside sees itself,
-// and area sampling covers that).
-EmitterMethod emitter_method(const Object& emitter, const Vec3& p, EmitterSampling mode, bool self) {
-  const Shape& shape = emitter.shape;
-  if (mode == EmitterSampling::kArea || self) return std::monostate{};
-  if (const auto* s = std::get_if<Sphere>(&shape)) {
-    const Vec3 to_center = s->center - p;
-    const double d2 = length_squared(to_center);
-    const double r2 = s->radius * s->radius;
-    if (!(d2 > r2)) return std::monostate{};  // inside or on the sphere: no cone, area sampling
-    return ConeSetup{Frame::from_normal(to_center / std::sqrt(d2)), ConeAperture::from_sin2(r2 / d2)};
-  }
-  // A two-sided planar light seen from behind is sampled as its mirror-oriented twin.
-  if (const auto* t = std::get_if<Triangle>(&shape)) {
-    const bool flip = emitter.two_sided && dot(p - t->p0, t->normal()) < 0;
-    if (auto sampler = SphericalTriangleSampler::make(flip ? Triangle{t->p0, t->p2, t->p1} : *t, p)) return *sampler;
-    return std::monostate{};
-  }
-  if (const auto* r = std::get_if<Rectangle>(&shape)) {
-    const bool flip = emitter.two_sided && dot(p - r->corner, r->normal()) < 0;
-    if (auto sampler = SphericalRectangleSampler::make(flip ? Rectangle{r->corner, r->edge_v, r->edge_u} : *r, p))
-      return *sampler;
-    return std::monostate{};
-  }
-  return std::monostate{};  // disks: no exact solid-angle map is used; area sampling
-}
-
-// Density in solid angle of direction wi from p reaching the emitter at
-// (point, normal), under `method`, excluding the light selection pmf.
-// The one helper both LightStrategy::sample and LightStrategy::pdf use.
-double emitter_pdf_solid_angle(const EmitterMethod& method, const Object& emitter, const Vec3& p, const Vec3& wi,
-                               const Vec3& point, const Vec3& normal) {
-  if (std::holds_alternative<std::monostate>(method)) {
-    const double cos_light = light_cosine(normal, wi, emitter.two_sided);
-    return solid_angle_pdf_from_area(shape_area_pdf(emitter.shape), length_squared(point - p), cos_light);
-  }
-  // The solid-angle methods exist only for viewpoints in front of the light
-  // (emitter_method), so every direction they cover meets its emitting side;
-  // no cos θ' test here, which round-off would fail at a sphere's silhouette.
-  if (const auto* cone = std::get_if<ConeSetup>(&method))
-    return uniform_cone_pdf(cone->frame.local_from_world(wi), cone->aperture);
-  if (const auto* tri = std::get_if<SphericalTriangleSampler>(&method)) return tri->pdf();
-  return std::get<SphericalRectangleSampler>(method).pdf();
-}
-
-struct EmitterPoint {
-  Vec3 point, normal;
-  // The sampled direction itself, when the method samples directions (cone,
-  // spherical triangle): recomputing it from `point` would add round-off that
-  // can push rim samples of a tiny cone out of its support.
-  std::optional<Vec3> direction;
-};
-
-// First intersection of p + t·w (t > 0) with the sphere, exact in double
-// precision; the discriminant in the form r² − |oc − (oc·w)w|², which does not
-// cancel for far-away spheres.
-std::optional<EmitterPoint> intersect_sphere(const Sphere& s, const Vec3& p, const Vec3& w) {
-  const Vec3 oc = p - s.center;
-  const double b = dot(oc, w);
-  const Vec3 perpendicular = oc - w * b;
-  const double disc = s.radius * s.radius - length_squared(perpendicular);
-  const double root = std::sqrt(std::fmax(disc, 0.0));  // rim directions of the cone: round-off below 0
-  const double t = -b - root;
-  if (!(t > 0)) return std::nullopt;
-  const Vec3 n = normalize(p + w * t - s.center);
-  return EmitterPoint{s.center + n * s.radius, n, w};
-}
-
-std::optional<EmitterPoint> intersect_plane(const Vec3& plane_point, const Vec3& normal, const Vec3& p,
-                                            const Vec3& w) {
-  const double denom = dot(w, normal);
-  if (denom == 0) return std::nullopt;
-  const double t = dot(plane_point - p, normal) / denom;
-  if (!(t > 0)) return std::nullopt;
-  return EmitterPoint{p + w * t, normal, w};
-}
-
-// A point on the emitter by `method`.
-std::optional<EmitterPoint> sample_emitter_point(const EmitterMethod& method, const Shape& shape, const Vec3& p,
-                                                 double u1, double u2) {
-  if (std::holds_alternative<std::monostate>(method)) {
-    const AreaSample a = sample_shape_area(shape, u1, u2);
-    return EmitterPoint{a.point, a.normal, std::nullopt};
-  }
-  if (const auto* cone = std::get_if<ConeSetup>(&method)) {
-    const Vec3 w = cone->frame.world_from_local(sample_uniform_cone(u1, u2, cone->aperture));
-    return intersect_sphere(std::get<Sphere>(shape), p, w);
-  }
-  if (const auto* tri = std::get_if<SphericalTriangleSampler>(&method)) {
-    return intersect_plane(tri->triangle.p0, tri->triangle.normal(), p, tri->sample(u1, u2));
-  }
-  const auto& rect = std::get<SphericalRectangleSampler>(method);
-  return EmitterPoint{rect.sample_point(u1, u2), std::get<Rectangle>(shape).normal(), std::nullopt};
 }
 
 }  // namespace
@@ -178,89 +58,7 @@ double BsdfStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_world) const 
   return ctx.bsdf.pdf(ctx.wo_local, ctx.frame.local_from_world(wi_world));
 }
 
-std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, const Uniform3& u) const {
-  if (lights->count() == 0) return std::nullopt;
-  const size_t light = lights->select(u[0]);
-  const double pmf = lights->selection_pmf();
-  LightSample s;
-  double pdf_for_weight = 0;
-  if (light == lights->emitters.size()) {
-    // The environment: cosine-weighted directions (its exact density for a constant sky).
-    const Vec3 wi_local = sample_cosine_hemisphere(u[1], u[2]);
-    s.wi_world = ctx.frame.world_from_local(wi_local);
-    s.pdf_solid_angle = pmf * cosine_hemisphere_pdf(wi_local);
-    s.radiance = scene->scene().environment.radiance;
-    s.shadow_origin = scene->spawn_origin(ctx.object, ctx.point, ctx.normal, s.wi_world);
-    s.shadow_direction = s.wi_world;
-    s.shadow_t_max = std::numeric_limits<double>::infinity();
-    pdf_for_weight = s.pdf_solid_angle;
-  } else {
-    const size_t object = lights->emitters[light];
-    const Object& emitter = scene->scene().objects[object];
-    const bool self = object == ctx.object;
-    // A flat light cannot light its own points (they see it edge-on).
-    if (self && !std::holds_alternative<Sphere>(emitter.shape)) return std::nullopt;
-    const EmitterMethod method = emitter_method(emitter, ctx.point, emitter_sampling, self);
-    const auto q = sample_emitter_point(method, emitter.shape, ctx.point, u[1], u[2]);
-    if (!q) return std::nullopt;
-    const Vec3 to_light = q->point - ctx.point;
-    const double distance_squared = length_squared(to_light);
-    if (!(distance_squared > 0)) return std::nullopt;
-    s.wi_world = q->direction ? *q->direction : to_light / std::sqrt(distance_squared);
-    s.pdf_solid_angle = pmf * emitter_pdf_solid_angle(method, emitter, ctx.point, s.wi_world, q->point, q->normal);
-    s.radiance = emitter.emitted_radiance;
-    pdf_for_weight = s.pdf_solid_angle;
-    // DEFECT(drop_light_cosine): area sampling converts to solid angle with r² only, forgetting 1/cos θ'.
-    if (defect == Defect::kDropLightCosine && std::holds_alternative<std::monostate>(method) &&
-        light_cosine(q->normal, s.wi_world, emitter.two_sided) > 0)
-      pdf_for_weight = pmf * solid_angle_pdf_from_area(shape_area_pdf(emitter.shape), distance_squared, 1.0);
-    // Shadow ray between the two offset surface points, so neither end hits its own surface.
-    s.shadow_origin = scene->spawn_origin(ctx.object, ctx.point, ctx.normal, s.wi_world);
-    const Vec3 target = scene->spawn_origin(object, q->point, q->normal, -s.wi_world);
-    const Vec3 segment = target - s.shadow_origin;
-    s.shadow_t_max = length(segment);
-    s.shadow_direction = segment / s.shadow_t_max;
-  }
-  if (!(s.pdf_solid_angle > 0)) return std::nullopt;  // back of a one-sided light, or a grazing point
-  const Vec3 wi_local = ctx.frame.local_from_world(s.wi_world);
-  s.weight = ctx.bsdf.eval(ctx.wo_local, wi_local) * std::fmax(wi_local.z, 0.0) / pdf_in_weight(pdf_for_weight, defect);
-  // DEFECT(skip_shadow_ray): every light sample is taken as visible.
-  s.assume_visible = defect == Defect::kSkipShadowRay;
-  return s;
-}
-
-double LightStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_world, const std::optional<SurfaceHit>& hit) const {
-  if (lights->count() == 0) return 0.0;
-  const double pmf = lights->selection_pmf();
-  if (!hit) return lights->environment ? pmf * cosine_hemisphere_pdf(ctx.frame.local_from_world(wi_world)) : 0.0;
-  const Object& o = scene->scene().objects[hit->object];
-  if (!o.is_emitter() || !(hit->front_facing || o.two_sided)) return 0.0;
-  const bool self = hit->object == ctx.object;
-  if (self && !std::holds_alternative<Sphere>(o.shape)) return 0.0;  // as in sample()
-  const EmitterMethod method = emitter_method(o, ctx.point, emitter_sampling, self);
-  return pmf * emitter_pdf_solid_angle(method, o, ctx.point, wi_world, hit->point, hit->normal);
-}
-
 // ---------------------------------------------------------------------------
-
-std::optional<SurfaceHit> trace_from(const EmbreeScene& scene, const ShadingContext& ctx, const Vec3& wi_world,
-                                     TraceCounters& counters) {
-  ++counters.rays;
-  return scene.intersect(scene.spawn_origin(ctx.object, ctx.point, ctx.normal, wi_world), wi_world);
-}
-
-bool light_visible(const EmbreeScene& scene, const LightSample& s, TraceCounters& counters) {
-  if (s.assume_visible) return true;  // DEFECT(skip_shadow_ray)
-  ++counters.rays;
-  return !scene.occluded(s.shadow_origin, s.shadow_direction, s.shadow_t_max);
-}
-
-double mis_weight(double pdf_a, double pdf_b, int beta) {
-  if (!(pdf_a > 0)) return 0.0;
-  const double a = beta == 2 ? pdf_a * pdf_a : pdf_a;
-  const double b = beta == 2 ? pdf_b * pdf_b : pdf_b;
-  return a / (a + b);
-}
 
 DirectLighting::DirectLighting(const EmbreeScene& scene, const LightSet& lights, Strategy strategy, Defect defect)
     : scene_(scene), lights_(lights), strategy_(strategy), defect_(defect) {

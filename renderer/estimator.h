@@ -11,9 +11,13 @@
 #include <cstdint>
 #include <optional>
 
+#include <array>
+
 #include "core/scene.h"
 #include "renderer/bsdf.h"
 #include "renderer/embree_scene.h"
+#include "renderer/render.h"
+#include "renderer/rng.h"
 
 namespace furnace {
 
@@ -63,5 +67,36 @@ inline double emitted_radiance_towards(const Scene& scene, const std::optional<S
 struct TraceCounters {
   uint64_t rays = 0;
 };
+
+// Uniform numbers for one sample() call: u[0] picks among lights, u[1], u[2] drive a warp.
+using Uniform3 = std::array<double, 3>;
+inline Uniform3 next_uniform3(Rng& rng) {
+  const double u0 = rng.next_double();
+  const double u1 = rng.next_double();
+  const double u2 = rng.next_double();
+  return {u0, u1, u2};
+}
+
+// DEFECT(pdf_off_by_constant): the pdf used in a weight is 1.1× the true one.
+inline constexpr double kDefectPdfFactor = 1.1;
+inline double pdf_in_weight(double pdf_solid_angle, Defect defect) {
+  return defect == Defect::kPdfOffByConstant ? kDefectPdfFactor * pdf_solid_angle : pdf_solid_angle;
+}
+
+// Traces the ray of a sampled direction from the shading point; returns the
+// first hit (empty on escape). Counts one ray.
+inline std::optional<SurfaceHit> trace_from(const EmbreeScene& scene, const ShadingContext& ctx, const Vec3& wi_world,
+                                            TraceCounters& counters) {
+  ++counters.rays;
+  return scene.intersect(scene.spawn_origin(ctx.object, ctx.point, ctx.normal, wi_world), wi_world);
+}
+
+// MIS weight of strategy a against b (one sample each), β = 1 (balance) or 2 (power).
+inline double mis_weight(double pdf_a, double pdf_b, int beta) {
+  if (!(pdf_a > 0)) return 0.0;
+  const double a = beta == 2 ? pdf_a * pdf_a : pdf_a;
+  const double b = beta == 2 ? pdf_b * pdf_b : pdf_b;
+  return a / (a + b);
+}
 
 }  // namespace furnace

@@ -1,0 +1,56 @@
+// Light sampling: choose a light uniformly (every emitter, and the
+// environment when it shines), then sample a direction towards it, by area
+// (a point uniform on the emitter) or by solid angle where an exact map exists
+// (cone for spheres, Arvo 1995 for triangles, Ureña et al. 2013 for
+// rectangles; disks and parallelograms fall back to area sampling). sample()
+// and pdf() compute the density through one helper; samples follow the return
+// convention of estimator.h (weight = f·cos θi/pdf).
+//
+// NEGATIVE CONTROLS: DEFECT(drop_light_cosine), DEFECT(skip_shadow_ray) and
+// DEFECT(pdf_off_by_constant) are implemented here at lines so marked.
+#pragma once
+
+#include <optional>
+
+#include "renderer/estimator.h"
+#include "renderer/lights.h"
+
+namespace furnace {
+
+// A light-sampling draw: a direction towards a chosen light, the radiance the
+// light emits along it, and the shadow ray that decides visibility.
+struct LightSample {
+  Vec3 wi_world;
+  double pdf_solid_angle = 0;  // true density of the strategy (selection pmf included)
+  double weight = 0;           // f·cos θi / pdf
+  double radiance = 0;         // Le of the light towards the shading point
+  Vec3 shadow_origin;
+  Vec3 shadow_direction;       // unit
+  double shadow_t_max = 0;     // +inf for the environment
+  bool assume_visible = false;  // only DEFECT(skip_shadow_ray) sets it
+};
+
+// How a light strategy samples one emitter.
+enum class EmitterSampling {
+  kArea,        // a point uniform on the emitter's area
+  kSolidAngle,  // uniform in the solid angle the emitter subtends where an exact map exists
+};
+
+// Choose a light uniformly among LightSet, then sample it: an emitter by
+// EmitterSampling, the environment by cosine-weighted directions.
+struct LightStrategy {
+  const EmbreeScene* scene = nullptr;
+  const LightSet* lights = nullptr;
+  EmitterSampling emitter_sampling = EmitterSampling::kArea;
+  Defect defect = Defect::kNone;
+
+  std::optional<LightSample> sample(const ShadingContext& ctx, const Uniform3& u) const;
+  // Density in solid angle of sampling direction wi, whose ray found `hit`
+  // (empty: it escaped). Used by MIS for directions drawn by another strategy.
+  double pdf(const ShadingContext& ctx, const Vec3& wi_world, const std::optional<SurfaceHit>& hit) const;
+};
+
+// Whether a light sample's light is visible (always true under DEFECT(skip_shadow_ray)).
+bool light_visible(const EmbreeScene& scene, const LightSample& s, TraceCounters& counters);
+
+}  // namespace furnace
