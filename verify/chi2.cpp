@@ -289,4 +289,16 @@ Chi2Result PlanarChi2::test(const std::vector<std::array<double, 2>>& samples, d
       alpha_family, n_tests, power);
 }
 
+// ---------------------------------------------------------------------------
+
+Chi2Result chi2_test_interval(const std::vector<double>& samples, const IntervalPdf& pdf, double a, double b,
+                              int bins, double alpha_family, size_t n_tests, double power) {
+  // A planar grid one bin high over y ∈ [0, 1], with a y-independent pdf.
+  const PlanarChi2 chi2([&](const std::array<double, 2>& p) { return pdf(p[0]); }, PlanarGrid{a, b, 0, 1, bins, 1});
+  std::vector<std::array<double, 2>> points;
+  points.reserve(samples.size());
+  for (double x : samples) points.push_back({x, 0.5});
+  return chi2.test(points, alpha_family, n_tests, power);
+}
+
 }  // namespace furnace::stats

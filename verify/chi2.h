@@ -155,4 +155,11 @@ class PlanarChi2 {
   double integral_ = 0;
 };
 
+// ---------------------------------------------------------------------------
+// Points on an interval [a, b] (a 1-D sampler, e.g. a distance or a CDF
+// inversion), `bins` equal-width bins; the pdf is a density in length.
+using IntervalPdf = std::function<double(double x)>;
+Chi2Result chi2_test_interval(const std::vector<double>& samples, const IntervalPdf& pdf, double a, double b,
+                              int bins, double alpha_family, size_t n_tests, double power = kDefaultPower);
+
 }  // namespace furnace::stats

@@ -202,6 +202,33 @@ VarianceTestResult variance_test(const MomentSums& m, double predicted_variance,
   return r;
 }
 
+double sample_skewness(const MomentSums& m) {
+  if (m.count == 0 || !(m.m2 > 0)) return 0;
+  const double n = double(m.count);
+  const double variance = m.m2 / n;
+  return (m.m3 / n) / (variance * std::sqrt(variance));
+}
+
+bool clt_adequate(const MomentSums& m) {
+  const double g1 = sample_skewness(m);
+  return double(m.count) > kCochranSkewnessFactor * g1 * g1;
+}
+
+MeanTestResult mean_test(const MomentSums& m, double reference, double alpha, double power) {
+  const double variance = m.count > 1 ? m.m2 / double(m.count - 1) : 0.0;
+  MeanTestResult r = mean_test(m.count, m.mean, variance, reference, alpha, power);
+  r.skewness = sample_skewness(m);
+  r.clt_adequate = clt_adequate(m);
+  if (!r.clt_adequate) {
+    std::ostringstream s;
+    s << (r.message.empty() ? "" : r.message + " ") << "Skewness " << r.skewness << " needs N > "
+      << kCochranSkewnessFactor * r.skewness * r.skewness << " for a normal mean (Cochran), N = " << m.count
+      << ": alpha is approximate.";
+    r.message = s.str();
+  }
+  return r;
+}
+
 MeanTestSummary mean_tests(const std::vector<SampleSummary>& summaries, const std::vector<double>& references,
                            double alpha_family, double power) {
   if (summaries.size() != references.size())

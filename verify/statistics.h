@@ -68,6 +68,9 @@ struct MeanTestResult {
   bool zero_variance = false;  // s = 0: exact agreement within kZeroVarianceRelTolerance required
   bool pass = false;
   std::string message;         // one sentence: why it failed, or the zero-variance branch taken
+  // Filled only by the MomentSums overload (below): sample skewness and Cochran's rule.
+  double skewness = 0;
+  bool clt_adequate = true;
 };
 
 // count: N samples; mean, sample_variance: their mean and unbiased variance
@@ -115,11 +118,12 @@ struct MomentSums {
   double mean = 0;
   double m2 = 0;  // Σ (y − ȳ)²
   double m4 = 0;  // Σ (y − ȳ)⁴
+  double m3 = 0;  // Σ (y − ȳ)³ (for the skewness check of the mean test)
 };
-// Any type with count, mean, m2, m4 fields (e.g. PixelMoments).
+// Any type with count, mean, m2, m3, m4 fields (e.g. PixelMoments).
 template <class Moments>
 MomentSums moment_sums(const Moments& m) {
-  return {uint64_t(m.count), double(m.mean), double(m.m2), double(m.m4)};
+  return {uint64_t(m.count), double(m.mean), double(m.m2), double(m.m4), double(m.m3)};
 }
 
 struct VarianceTestResult {
@@ -139,6 +143,23 @@ struct VarianceTestResult {
 };
 VarianceTestResult variance_test(const MomentSums& m, double predicted_variance, double alpha,
                                  double power = kDefaultPower);
+
+// ---------------------------------------------------------------------------
+// Is the t-test's normal approximation of the mean trustworthy? A skewed
+// estimator (rare large values: a small light found by hemisphere sampling)
+// needs many samples before its mean is normal. Cochran's rule (Cochran 1977,
+// Sampling Techniques §2.15): N > 25·G1², G1 the sample skewness.
+inline constexpr double kCochranSkewnessFactor = 25;
+
+// Sample skewness G1 = (m3/N)/(m2/N)^{3/2}; 0 when m2 == 0.
+double sample_skewness(const MomentSums& m);
+// N > kCochranSkewnessFactor·G1². A false answer does not fail a test by
+// itself: it says the test's α is approximate, and is reported.
+bool clt_adequate(const MomentSums& m);
+
+// The mean test from moment sums: s² = m2/(N − 1); fills skewness and
+// clt_adequate in the result (message notes a failed check).
+MeanTestResult mean_test(const MomentSums& m, double reference, double alpha, double power = kDefaultPower);
 
 // ---------------------------------------------------------------------------
 // Many mean tests at once (e.g. every pixel), each at the Šidák level that

@@ -127,5 +127,23 @@ TEST(PlanarChi2, UniformSquareIntegratesToOne) {
   EXPECT_EQ(chi2.cell_of({std::nan(""), 0.5}), -1);
 }
 
+// x = max(u1, u2) has density 2x on [0, 1]; 200 000 samples, 21 bins, α = kAlpha.
+TEST(IntervalChi2, MaxOfTwoUniformsHasLinearDensity) {
+  Rng rng(kSeed, 2, 0);
+  std::vector<double> max_samples, plain_samples;
+  for (int i = 0; i < 200000; ++i) {
+    const double u1 = rng.next_double();
+    max_samples.push_back(std::max(u1, rng.next_double()));
+    plain_samples.push_back(u1);
+  }
+  const auto linear = [](double x) { return x >= 0 && x <= 1 ? 2 * x : 0.0; };
+  const Chi2Result ok = chi2_test_interval(max_samples, linear, 0, 1, 21, kAlpha, 1);
+  std::cout << "  " << ok.message << " detectable w = " << ok.detectable_effect << "\n";
+  EXPECT_TRUE(ok.pass) << ok.message;
+  EXPECT_NEAR(ok.pdf_integral, 1.0, 1e-12);
+  // Negative control: plain uniforms are not linearly distributed.
+  EXPECT_FALSE(chi2_test_interval(plain_samples, linear, 0, 1, 21, kAlpha, 1).pass);
+}
+
 }  // namespace
 }  // namespace furnace::stats

@@ -150,6 +150,23 @@ TEST(MeanTest, DegenerateInputsFail) {
   EXPECT_THROW(mean_test(100, 0.5, 1.0, 0.5, 0.0), std::invalid_argument);
 }
 
+// Exp(1) has skewness exactly 2: Cochran's rule asks N > 25·4 = 100.
+TEST(MeanTest, SkewnessAndCochranRule) {
+  const Moments large = draw(kSeed, 9, kSamples, exponential);
+  const MeanTestResult r = mean_test(moment_sums(large), kExponentialMean, kAlpha);
+  EXPECT_NEAR(r.skewness, 2.0, 0.1);
+  EXPECT_TRUE(r.clt_adequate);
+  EXPECT_TRUE(r.pass) << r.message;
+  // Same verdict and numbers as the (count, mean, variance) overload.
+  const MeanTestResult plain = mean_test(large.count, large.mean, large.sample_variance(), kExponentialMean, kAlpha);
+  EXPECT_EQ(r.statistic, plain.statistic);
+  EXPECT_EQ(r.detectable_bias, plain.detectable_bias);
+  const Moments small = draw(kSeed, 10, 40, exponential);
+  const MeanTestResult few = mean_test(moment_sums(small), kExponentialMean, kAlpha);
+  EXPECT_FALSE(few.clt_adequate) << "skewness " << few.skewness;
+  EXPECT_NE(few.message.find("Cochran"), std::string::npos) << few.message;
+}
+
 // --- variance test -----------------------------------------------------------
 
 // N = kSamples, α = kAlpha.
