@@ -16,6 +16,7 @@
 #include "renderer/exr_io.h"
 #include "renderer/render.h"
 #include "verify/analytic_query.h"
+#include "verify/check.h"
 #include "verify/harness.h"
 #include "verify/report.h"
 
@@ -168,6 +169,17 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1.0));
   analytic_cmd->add_flag("--json", a_json, "Print JSON");
 
+  std::string c_scene;
+  std::vector<std::string> c_images;
+  double c_alpha = verify::kDefaultFamilyAlpha;
+  int c_max_depth = 0;
+  auto* check_cmd = app.add_subcommand("check", "Test another renderer's OpenEXR images of a scene against its exact reference");
+  check_cmd->add_option("--scene", c_scene, "Scene file the images are renders of")->required();
+  check_cmd->add_option("--image", c_images, "OpenEXR image(s): K >= 2 independent renders, or one furnace EXR")->required();
+  check_cmd->add_option("--alpha", c_alpha, "Family-wise false-alarm probability")->capture_default_str()->check(CLI::Range(1e-12, 0.5));
+  check_cmd->add_option("--max-depth", c_max_depth, "Compare with the global-illumination answer at this path depth "
+                        "(segments; 0: direct lighting)")->capture_default_str()->check(CLI::Range(0, std::numeric_limits<int>::max()));
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -185,6 +197,14 @@ int main(int argc, char** argv) {
       if (a_albedo >= 0) q.albedo = a_albedo;
       std::fputs(verify::answer_analytic_query(scene, q, a_json).c_str(), stdout);
       return 0;
+    }
+    if (*check_cmd) {
+      const Scene scene = load_scene(c_scene);
+      std::vector<verify::ForeignImage> images;
+      for (const std::string& path : c_images) images.push_back(verify::read_foreign_image(path, scene));
+      const verify::CheckResult r = verify::check_images(scene, images, c_alpha, c_max_depth);
+      std::fputs(verify::format_check(scene, r, c_alpha).c_str(), stdout);
+      return r.pass ? 0 : 1;
     }
     if (*report_cmd) {
       std::string command_line = "furnace";

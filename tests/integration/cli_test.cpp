@@ -74,3 +74,50 @@ TEST(Cli, InjectedDefectMakesVerifyFail) {
 }
 
 }  // namespace
+
+namespace {
+
+// `furnace check` on our own renders treated as a foreign renderer's: K
+// independent correct renders pass, renders with a known defect fail, and
+// an image of the wrong resolution is rejected naming the field.
+class CheckCommand : public testing::Test {
+ protected:
+  void SetUp() override { dir_ = temp_dir(); }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string render(const std::string& scene, int seed, const std::string& defect) {
+    const std::string out = (dir_ / ("r" + std::to_string(seed) + defect + ".exr")).string();
+    const Result r = run_cli("render --scene " + scene + " --strategy light_area --spp 64 --seed " +
+                             std::to_string(seed) + " --defect " + defect + " --output " + out);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return out;
+  }
+  std::filesystem::path dir_;
+};
+
+const std::string kDisk = std::string(FURNACE_SCENE_DIR) + "/disk_occluder.json";
+
+TEST_F(CheckCommand, IndependentCorrectRendersPass) {
+  std::string args;
+  for (int seed = 1; seed <= 8; ++seed) args += " --image " + render(kDisk, seed, "none");
+  const Result r = run_cli("check --scene " + kDisk + args);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("verdict: PASS"), std::string::npos) << r.output;
+}
+
+TEST_F(CheckCommand, DefectiveRendersFail) {
+  std::string args;
+  for (int seed = 1; seed <= 8; ++seed) args += " --image " + render(kDisk, seed, "drop_light_cosine");
+  const Result r = run_cli("check --scene " + kDisk + args);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+}
+
+TEST_F(CheckCommand, WrongResolutionIsNamed) {
+  const std::string other = std::string(FURNACE_SCENE_DIR) + "/white_furnace.json";  // 24x24, not 32x32
+  const std::string a = render(other, 1, "none"), b = render(other, 2, "none");
+  const Result r = run_cli("check --scene " + kDisk + " --image " + a + " --image " + b);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("camera.resolution"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(a), std::string::npos) << r.output;
+}
+
+}  // namespace
