@@ -117,23 +117,43 @@ Verdict run_case(const Case& c, double per_case_alpha) {
     }
   }
   v.variance_tested = !predicted_variance.empty();
-  // P pixel tests + 1 image-mean test (and as many variance tests when the
+  // P pixel tests + 1 image-mean test (+ 1 aggregate variance test when the
   // variance is modelled) share this case's α (Šidák).
-  const size_t n_tests = (reference.size() + 1) * (v.variance_tested ? 2 : 1);
+  const size_t n_tests = reference.size() + 1 + (v.variance_tested ? 1 : 0);
   const double alpha_each = stats::sidak_alpha(per_case_alpha, n_tests);
   double sum_s2 = 0, sum_sigma2 = 0, sum_var_s2 = 0;
 
   double sum_estimate = 0, sum_reference = 0, sum_variance_of_mean = 0, sum_sq_error = 0;
   std::vector<double> pixel_detectable;
+  // A spread within float round-off of the mean (estimates that differ only
+  // in their last bits, e.g. the white furnace's exact 1) is zero variance.
+  auto round_off_only = [](const PixelMoments& m) {
+    return std::sqrt(m.sample_variance()) <= stats::kZeroVarianceRelTolerance * std::fabs(m.mean);
+  };
+  // A zero-variance case (every pixel constant: exact sampling) must match
+  // its reference exactly everywhere.
+  bool zero_variance_case = true;
+  for (const PixelMoments& m : image.pixels) zero_variance_case = zero_variance_case && round_off_only(m);
+
   for (size_t i = 0; i < reference.size(); ++i) {
     const PixelMoments& m = image.pixels[i];
     const double variance = m.sample_variance();
+    const bool constant = round_off_only(m);
     sum_estimate += m.mean;
     sum_reference += reference[i];
     sum_variance_of_mean += variance / double(m.count);
     sum_sq_error += (m.mean - reference[i]) * (m.mean - reference[i]);
-    // Sample skewness G1 = (m3/n)/(m2/n)^1.5; undefined (and irrelevant) when s = 0.
-    if (std::sqrt(m.sample_variance()) > stats::kZeroVarianceRelTolerance * std::fabs(m.mean)) {
+    // The aggregate variance test takes every pixel: selecting pixels by
+    // their sample moments (the skewness rule below) would bias Σ s².
+    stats::VarianceTestResult vt;
+    if (v.variance_tested) {
+      vt = stats::variance_test(stats::moment_sums(m), predicted_variance[i], alpha_each);
+      sum_s2 += vt.sample_variance;
+      sum_sigma2 += vt.predicted_variance;
+      sum_var_s2 += vt.standard_error * vt.standard_error;
+    }
+    // Validity of the pixel's tests. Sample skewness G1 = (m3/n)/(m2/n)^1.5.
+    if (!constant) {
       const double n = double(m.count);
       const double skewness = (m.m3 / n) / std::pow(m.m2 / n, 1.5);
       if (n < kCochranSkewnessFactor * skewness * skewness) {
@@ -141,20 +161,22 @@ Verdict run_case(const Case& c, double per_case_alpha) {
         continue;
       }
     }
-    // A spread within float round-off of the mean (estimates that differ only
-    // in their last bits, e.g. the white furnace's exact 1) is zero variance:
-    // the test then demands agreement within that same tolerance.
-    const bool round_off_only = std::sqrt(variance) <= stats::kZeroVarianceRelTolerance * std::fabs(m.mean);
     const stats::MeanTestResult t =
-        stats::mean_test(m.count, m.mean, round_off_only ? 0.0 : variance, reference[i], alpha_each);
-    if (v.variance_tested) {
-      const stats::VarianceTestResult vt =
-          stats::variance_test(stats::moment_sums(m), predicted_variance[i], alpha_each);
-      if (!vt.pass) ++v.variance_pixel_failures;
-      sum_s2 += vt.sample_variance;
-      sum_sigma2 += vt.predicted_variance;
-      sum_var_s2 += vt.standard_error * vt.standard_error;
+        stats::mean_test(m.count, m.mean, constant ? 0.0 : variance, reference[i], alpha_each);
+    // Constant samples that miss the reference in a case that is not
+    // zero-variance: a rare outcome (a blocker hit with p ≪ 1/N) simply never
+    // occurred. Its skewness is unbounded, so like a skewed pixel it is
+    // untested here and left to the image-mean test.
+    if (constant && !t.pass && !zero_variance_case) {
+      ++v.pixels_untested;
+      continue;
     }
+    // Per-pixel variance tests are reported, not part of the verdict: the
+    // fourth-moment standard error of one pixel's s² is anti-conservative for
+    // skewed estimators at the spp of a verification run (the false-alarm
+    // sweep measured 3/10 rejections at 256 spp where α = 0.05 allowed 0.5).
+    // The aggregate over all pixels, which is close to normal, decides.
+    if (v.variance_tested && !vt.pass) ++v.variance_pixel_failures;
     if (!t.pass) ++v.pixel_failures;
     const double badness = (!t.pass && t.zero_variance) ? HUGE_VAL : std::fabs(t.statistic);
     if (badness > v.worst_pixel_t || i == 0) {
@@ -189,7 +211,7 @@ Verdict run_case(const Case& c, double per_case_alpha) {
     v.predicted_variance = sum_sigma2 / p;
     v.variance_z = vz.statistic;
     v.variance_detectable_rel_error = vz.detectable_relative_bias;
-    variance_pass = vz.pass && v.variance_pixel_failures == 0;
+    variance_pass = vz.pass;
   }
   v.pass = zt.pass && v.pixel_failures == 0 && v.nonfinite_samples == 0 && variance_pass;
   return v;
@@ -212,7 +234,7 @@ std::string format_table(const std::vector<Verdict>& verdicts, double family_alp
                        100 * v.median_pixel_detectable_rel_bias, v.seconds, v.samples_per_second / 1e6,
                        v.pass ? "pass" : "FAIL");
     if (v.variance_tested)
-      out += fmt::format("    variance: measured {:.6g}, predicted {:.6g} (mean per pixel), z {:.3f}, {} pixel failures, "
+      out += fmt::format("    variance: measured {:.6g}, predicted {:.6g} (mean per pixel), z {:.3f}, {} pixel outliers (not in verdict), "
                          "detectable {:.3g}%\n",
                          v.measured_variance, v.predicted_variance, v.variance_z, v.variance_pixel_failures,
                          100 * v.variance_detectable_rel_error);

@@ -26,8 +26,10 @@ inline constexpr double kReportedPower = 0.9;
 // needs N ≥ 25·G1² (Cochran 1977, "Sampling Techniques", §2.15; Boos & Hughes-
 // Oliver 2000). Pixels below that are not t-tested but counted and reported as
 // `px untested`; they still enter the image-mean test, whose mean over all
-// pixels is close to normal. A pixel whose samples are all equal (s = 0) is
-// never skipped: it must match its reference exactly.
+// pixels is close to normal. A pixel whose samples are all equal (s = 0) must
+// match its reference exactly; if it does not, it is skipped the same way
+// unless every pixel of the case is constant (a zero-variance estimator,
+// which must be exact everywhere).
 inline constexpr double kCochranSkewnessFactor = 25.0;
 
 struct Case {
@@ -57,9 +59,9 @@ struct Verdict {
   int worst_px = 0, worst_py = 0;
   double worst_pixel_mean = 0, worst_pixel_reference = 0, worst_pixel_sample_variance = 0;
   double median_pixel_detectable_rel_bias = 0;
-  // Variance tests against the analytic second moment (strategies that
-  // analytic/moments.h models, on scenes it solves): per pixel (those valid
-  // for the mean test) and for the sum over pixels of s² − σ².
+  // Variance test against the analytic second moment (strategies that
+  // analytic/moments.h models, on scenes it solves) for the sum over pixels
+  // of s² − σ²; per-pixel outliers are counted for information only.
   bool variance_tested = false;
   double measured_variance = 0;    // mean over pixels of the per-sample s²
   double predicted_variance = 0;   // mean over pixels of E[Y²] − E[Y]²
@@ -75,7 +77,7 @@ struct Verdict {
 
 // Runs one case. `per_case_alpha` is the family-wise level of this case's
 // P + 1 mean tests (P pixel tests and the image-mean test) and, where the
-// strategy's variance is modelled, its P + 1 variance tests.
+// strategy's variance is modelled, its aggregate variance test.
 Verdict run_case(const Case& c, double per_case_alpha);
 
 // The built-in suite `furnace verify` runs when no scene is given: each

@@ -19,6 +19,7 @@
 #include "verify/check.h"
 #include "verify/harness.h"
 #include "verify/report.h"
+#include "verify/statistics.h"
 
 namespace {
 
@@ -105,6 +106,55 @@ int run_report(const std::vector<std::string>& strategies, int min_spp, int max_
   return 0;
 }
 
+// The false-alarm sweep: every selected case of the built-in suite rerun over
+// `seeds` seeds at the per-case level `case_alpha`; the observed rejection
+// rate of each case is compared with case_alpha by an exact binomial test.
+// The per-case tests are Šidák-corrected over pixels and partly positively
+// correlated, so the true rate may sit below case_alpha but must not exceed it.
+int run_sweep(const std::vector<std::string>& strategies, int seeds, int spp, double case_alpha, int threads) {
+  for (const std::string& name : strategies) parse_strategy(name);
+  std::vector<verify::Case> cases;
+  for (const verify::Case& c : verify::default_suite(spp, 0, threads)) {
+    const bool selected = strategies.empty() || std::find(strategies.begin(), strategies.end(),
+                                                          strategy_name(c.options.strategy)) != strategies.end();
+    if (selected) cases.push_back(c);
+  }
+  fmt::print("false-alarm sweep: {} cases x {} seeds at {} spp, per-case alpha {}\n", cases.size(), seeds, spp,
+             case_alpha);
+  fmt::print("{:<22} {:<24} {:>10} {:>8} {:>19} {:>10}\n", "scene", "strategy", "rejected", "rate", "95% CI",
+             "binom p");
+  size_t total_rejections = 0, total_trials = 0;
+  bool calibrated = true;
+  for (const verify::Case& base : cases) {
+    std::string scene_name, strategy;
+    const stats::RejectionRate rate = stats::measure_rejection_rate(
+        [&](uint64_t seed) {
+          verify::Case c = base;
+          c.options.seed = seed;
+          const verify::Verdict v = verify::run_case(c, case_alpha);
+          scene_name = v.scene;
+          strategy = v.strategy;
+          return !v.pass;
+        },
+        size_t(seeds), case_alpha, 1);
+    total_rejections += rate.rejections;
+    total_trials += rate.trials;
+    // Too many false alarms is the failure that matters (one-sided reading of
+    // the two-sided exact test): a significant excess at 1 %.
+    const bool excess = rate.rate > case_alpha && rate.binomial_p_value < 0.01;
+    calibrated = calibrated && !excess;
+    fmt::print("{:<22} {:<24} {:>5}/{:<4} {:>8.4f} [{:.4f}, {:.4f}] {:>10.3g}{}\n", scene_name, strategy,
+               rate.rejections, rate.trials, rate.rate, rate.ci_low, rate.ci_high, rate.binomial_p_value,
+               excess ? "  EXCESS" : "");
+  }
+  const double p_all = stats::binomial_two_sided_p_value(total_rejections, total_trials, case_alpha);
+  fmt::print("all cases: {}/{} rejected, rate {:.4f} against alpha {} (binomial p {:.3g})\n", total_rejections,
+             total_trials, double(total_rejections) / double(total_trials), case_alpha, p_all);
+  std::puts(calibrated ? "calibration: OK (no case rejects significantly more often than alpha)"
+                       : "calibration: FAIL (some case rejects significantly more often than alpha)");
+  return calibrated ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -180,6 +230,16 @@ int main(int argc, char** argv) {
   check_cmd->add_option("--max-depth", c_max_depth, "Compare with the global-illumination answer at this path depth "
                         "(segments; 0: direct lighting)")->capture_default_str()->check(CLI::Range(0, std::numeric_limits<int>::max()));
 
+  std::vector<std::string> s_strategies;
+  int s_seeds = 50, s_spp = 1024, s_threads = 0;
+  double s_alpha = 0.05;
+  auto* sweep_cmd = app.add_subcommand("sweep", "Measure the false-alarm rate of the verification over many seeds (slow)");
+  sweep_cmd->add_option("--strategy", s_strategies, "Strategy name(s); default: all");
+  sweep_cmd->add_option("--seeds", s_seeds, "Seeds per case")->capture_default_str()->check(CLI::Range(1, 100000));
+  sweep_cmd->add_option("--spp", s_spp, "Samples per pixel")->capture_default_str()->check(CLI::Range(2, 1 << 24));
+  sweep_cmd->add_option("--case-alpha", s_alpha, "False-alarm level of each case")->capture_default_str()->check(CLI::Range(1e-6, 0.5));
+  sweep_cmd->add_option("--threads", s_threads, "Worker threads (0: all)")->capture_default_str()->check(CLI::Range(0, 1024));
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -206,6 +266,7 @@ int main(int argc, char** argv) {
       std::fputs(verify::format_check(scene, r, c_alpha).c_str(), stdout);
       return r.pass ? 0 : 1;
     }
+    if (*sweep_cmd) return run_sweep(s_strategies, s_seeds, s_spp, s_alpha, s_threads);
     if (*report_cmd) {
       std::string command_line = "furnace";
       for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
