@@ -180,7 +180,7 @@ int main(int argc, char** argv) {
 
   std::vector<std::string> v_scenes, v_strategies;
   std::string v_defect = "none";
-  int v_spp = 1024, v_threads = 0;
+  int v_spp = 4096, v_threads = 0;
   uint64_t v_seed = 20261125;
   double v_alpha = verify::kDefaultFamilyAlpha;
   int v_max_depth = std::numeric_limits<int>::max();
