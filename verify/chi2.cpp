@@ -73,6 +73,18 @@ double integrate_2d(const F& f, double a0, double a1, double b0, double b1) {
   return integrate_adaptive(inner, a0, a1, kQuadratureRelTolerance);
 }
 
+// Cell of a direction on a spherical grid; −1 if not a finite unit vector or outside.
+long spherical_cell_of(const Vec3& w, const SphericalGrid& grid) {
+  if (!is_finite(w) || !(std::fabs(length(w) - 1) <= kUnitLengthTolerance)) return -1;
+  const double t = w.z > 0 ? (w.x * w.x + w.y * w.y) / (1 + w.z) : 1 - w.z;  // 1 − cos θ without cancellation
+  if (!(t <= grid.t_max * (1 + kGridRimSlack))) return -1;
+  const long row = std::min(long(t / grid.t_max * grid.t_bins), long(grid.t_bins - 1));
+  double phi = std::atan2(w.y, w.x);
+  if (phi < 0) phi += kTwoPi;
+  const long col = std::min(long(phi / kTwoPi * grid.phi_bins), long(grid.phi_bins - 1));
+  return row * grid.phi_bins + col;
+}
+
 // Shared tail of the directional and planar tests: count samples per cell,
 // report the first sample that is outside the grid, then run Pearson.
 template <class Sample, class CellOf, class Describe>
@@ -223,16 +235,7 @@ DirectionalChi2::DirectionalChi2(const DirectionPdf& pdf_solid_angle, const Sphe
     }
 }
 
-long DirectionalChi2::cell_of(const Vec3& w) const {
-  if (!is_finite(w) || !(std::fabs(length(w) - 1) <= kUnitLengthTolerance)) return -1;
-  const double t = w.z > 0 ? (w.x * w.x + w.y * w.y) / (1 + w.z) : 1 - w.z;  // 1 − cos θ without cancellation
-  if (!(t <= grid_.t_max * (1 + kGridRimSlack))) return -1;
-  const long row = std::min(long(t / grid_.t_max * grid_.t_bins), long(grid_.t_bins - 1));
-  double phi = std::atan2(w.y, w.x);
-  if (phi < 0) phi += kTwoPi;
-  const long col = std::min(long(phi / kTwoPi * grid_.phi_bins), long(grid_.phi_bins - 1));
-  return row * grid_.phi_bins + col;
-}
+long DirectionalChi2::cell_of(const Vec3& w) const { return spherical_cell_of(w, grid_); }
 
 Chi2Result DirectionalChi2::test(const std::vector<Vec3>& samples, double alpha_family, size_t n_tests,
                                  double power) const {
@@ -251,6 +254,97 @@ Chi2Result DirectionalChi2::test(const std::vector<Vec3>& samples, double alpha_
 Chi2Result chi2_test_directions(const std::vector<Vec3>& samples, const DirectionPdf& pdf_solid_angle,
                                 const SphericalGrid& grid, double alpha_family, size_t n_tests, double power) {
   return DirectionalChi2(pdf_solid_angle, grid).test(samples, alpha_family, n_tests, power);
+}
+
+// ---------------------------------------------------------------------------
+
+DirectionHistogram direction_histogram(const std::vector<Vec3>& samples, const SphericalGrid& grid) {
+  if (grid.phi_bins < 1 || grid.phi_bins % 2 == 0 || grid.t_bins < 1 || !(grid.t_max > 0 && grid.t_max <= 2))
+    throw std::invalid_argument("direction_histogram: odd phi_bins, positive t_bins and t_max in (0, 2] required.");
+  DirectionHistogram h;
+  h.counts.assign(size_t(grid.t_bins) * size_t(grid.phi_bins), 0.0);
+  for (const Vec3& w : samples) {
+    const long c = spherical_cell_of(w, grid);
+    if (c < 0)
+      ++h.outside;
+    else
+      h.counts[size_t(c)] += 1;
+  }
+  return h;
+}
+
+Chi2Result chi2_two_sample(const std::vector<double>& counts_a, const std::vector<double>& counts_b, double alpha,
+                           double power) {
+  if (counts_a.size() != counts_b.size())
+    throw std::invalid_argument("chi2_two_sample: the histograms differ in size.");
+  Chi2Result r;
+  r.alpha = alpha;
+  r.cells = counts_a.size();
+  r.statistic = std::numeric_limits<double>::infinity();
+  double n_a = 0, n_b = 0;
+  for (size_t i = 0; i < counts_a.size(); ++i) {
+    n_a += counts_a[i];
+    n_b += counts_b[i];
+  }
+  r.samples = size_t(n_a + n_b);
+  if (!(n_a > 0 && n_b > 0)) {
+    r.message = "Both histograms need samples.";
+    return r;
+  }
+  const double share_a = n_a / (n_a + n_b), share_b = n_b / (n_a + n_b);
+  // Bins as (a, b) count pairs; cells with a small expected count are pooled.
+  std::vector<std::pair<double, double>> bins;
+  double pool_a = 0, pool_b = 0;
+  for (size_t i = 0; i < counts_a.size(); ++i) {
+    const double total = counts_a[i] + counts_b[i];
+    if (total == 0) continue;
+    if (std::min(share_a, share_b) * total < kMinExpectedCount) {
+      pool_a += counts_a[i];
+      pool_b += counts_b[i];
+      ++r.pooled_cells;
+    } else {
+      bins.emplace_back(counts_a[i], counts_b[i]);
+    }
+  }
+  if (r.pooled_cells > 0) {
+    if (std::min(share_a, share_b) * (pool_a + pool_b) >= kMinExpectedCount || bins.empty()) {
+      bins.emplace_back(pool_a, pool_b);
+    } else {
+      auto smallest = std::min_element(bins.begin(), bins.end(), [](const auto& x, const auto& y) {
+        return x.first + x.second < y.first + y.second;
+      });
+      smallest->first += pool_a;
+      smallest->second += pool_b;
+    }
+  }
+  r.dof = int(bins.size()) - 1;
+  if (r.dof < 1) {
+    r.message = "Fewer than 2 bins reach the minimum expected count: draw more samples or use a coarser grid.";
+    return r;
+  }
+  double chi2 = 0;
+  for (const auto& [a, b] : bins) {
+    const double total = a + b;
+    const double e_a = share_a * total, e_b = share_b * total;
+    chi2 += (a - e_a) * (a - e_a) / e_a + (b - e_b) * (b - e_b) / e_b;
+  }
+  r.statistic = chi2;
+  const boost::math::chi_squared_distribution<double> dist(r.dof);
+  r.p_value = boost::math::cdf(boost::math::complement(dist, chi2));
+  r.pass = r.p_value >= alpha;
+  const double critical = boost::math::quantile(boost::math::complement(dist, alpha));
+  try {
+    const double lambda = boost::math::non_central_chi_squared_distribution<double>::find_non_centrality(
+        double(r.dof), critical, 1 - power);
+    r.detectable_effect = std::sqrt(lambda / (n_a * n_b / (n_a + n_b)));
+  } catch (const std::exception&) {
+    r.detectable_effect = std::numeric_limits<double>::quiet_NaN();
+  }
+  std::ostringstream s;
+  s << "two-sample chi2 = " << chi2 << " with " << r.dof << " dof (" << r.pooled_cells << " cells pooled), p = "
+    << r.p_value << (r.pass ? " >= " : " < ") << "alpha = " << alpha << ".";
+  r.message = s.str();
+  return r;
 }
 
 // ---------------------------------------------------------------------------

@@ -72,7 +72,7 @@ struct Chi2Result {
   size_t samples = 0;
   size_t cells = 0;          // grid cells
   size_t pooled_cells = 0;   // cells with 0 < expected < kMinExpectedCount, pooled into one bin
-  double pdf_integral = 0;   // ∫ pdf over the grid (quadrature); 1 for a normalised pdf covered by the grid
+  double pdf_integral = 0;   // ∫ pdf over the grid (quadrature); 1 for a normalised pdf covered by the grid; 0 when no pdf (two-sample)
   double detectable_effect = 0;  // Cohen's w detected with kDefaultPower (or the power passed)
   std::string message;       // why it failed, or a one-line summary
 };
@@ -128,6 +128,29 @@ class DirectionalChi2 {
 Chi2Result chi2_test_directions(const std::vector<Vec3>& samples, const DirectionPdf& pdf_solid_angle,
                                 const SphericalGrid& grid, double alpha_family, size_t n_tests,
                                 double power = kDefaultPower);
+
+// ---------------------------------------------------------------------------
+// Two samplers compared without a pdf (homogeneity test): is the distribution
+// of sample set A the same as that of B (e.g. Malley's cosine sampler vs the
+// inversion one, or a sampler before and after an optimisation)?
+
+// Counts per cell of `grid` (row-major, t row then φ column); samples that
+// are not finite unit vectors inside the grid are counted in `outside`.
+struct DirectionHistogram {
+  std::vector<double> counts;
+  size_t outside = 0;
+};
+DirectionHistogram direction_histogram(const std::vector<Vec3>& samples, const SphericalGrid& grid);
+
+// Pearson's chi-square for the 2 × K table of two histograms over the same
+// cells: expected count of A in cell i is N_A·(a_i + b_i)/(N_A + N_B). Cells
+// whose smaller expected count is below kMinExpectedCount are pooled (as
+// above); dof = bins − 1. `alpha` is the per-test level. The detectable
+// effect is w = √(Σ (P_A,i − P_B,i)²/P̄_i), P the cell probabilities of each
+// sampler and P̄ their pooled mean; the non-centrality of the test is then
+// λ = w²·N_A·N_B/(N_A + N_B).
+Chi2Result chi2_two_sample(const std::vector<double>& counts_a, const std::vector<double>& counts_b, double alpha,
+                           double power = kDefaultPower);
 
 // ---------------------------------------------------------------------------
 // Points in a rectangle of the plane ([0,1]², or [−1,1]² around a unit disk).

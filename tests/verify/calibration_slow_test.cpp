@@ -33,7 +33,7 @@ constexpr uint64_t kFirstSeed = 0xca11b000;
 // Level of the tests under calibration: large, so that kTrials trials see
 // ~20 false alarms and a rate off by a factor 2 is resolved.
 constexpr double kTestAlpha = 0.05;
-// Level of each binomial calibration check (7 checks: family ≈ 0.7 %).
+// Level of each binomial calibration check (8 checks: family ≈ 0.8 %).
 constexpr double kCalibrationAlpha = 1e-3;
 
 void report(const std::string& what, const RejectionRate& r) {
@@ -125,6 +125,27 @@ TEST(Calibration, Chi2FalseAlarmRate) {
   EXPECT_GE(r.binomial_p_value, kCalibrationAlpha);
 }
 
+// Two-sample chi-square: Malley vs inversion cosine samples, N = 100 000
+// each per trial, 21×10 cells.
+TEST(Calibration, TwoSampleChi2FalseAlarmRate) {
+  const SphericalGrid grid = SphericalGrid::hemisphere(10);
+  const RejectionRate r = measure_rejection_rate(
+      [&grid](uint64_t seed) {
+        Rng rng(seed, 9, 0);
+        std::vector<Vec3> a(100000), b(100000);
+        for (size_t i = 0; i < a.size(); ++i) {
+          const double u1 = rng.next_double(), u2 = rng.next_double(), u3 = rng.next_double(), u4 = rng.next_double();
+          a[i] = sample_cosine_hemisphere_malley(u1, u2);
+          b[i] = sample_cosine_hemisphere(u3, u4);
+        }
+        return !chi2_two_sample(direction_histogram(a, grid).counts, direction_histogram(b, grid).counts, kTestAlpha)
+                    .pass;
+      },
+      kTrials, kTestAlpha, kFirstSeed);
+  report("two_sample_chi2_false_alarm", r);
+  EXPECT_GE(r.binomial_p_value, kCalibrationAlpha);
+}
+
 // Power of the chi-square: samples from the mixture (1 − ε)·cosine + ε·uniform
 // on the hemisphere, tested against the cosine pdf. The mixture's effect is
 // w = ε·w₁ (w₁ the effect of pure uniform samples), so ε = w_detectable/w₁
@@ -135,9 +156,14 @@ TEST(Calibration, Chi2PowerAtDetectableEffect) {
   const SphericalGrid grid = SphericalGrid::hemisphere(10);
   const DirectionalChi2 chi2(cosine_hemisphere_pdf, grid);
   const std::vector<double>& p = chi2.cell_probabilities();
-  const std::vector<double>& q = DirectionalChi2(uniform_hemisphere_pdf, grid).cell_probabilities();
+  const std::vector<double> q = DirectionalChi2(uniform_hemisphere_pdf, grid).cell_probabilities();  // a copy: the temporary dies here
   double w1_squared = 0;
   for (size_t i = 0; i < p.size(); ++i) w1_squared += (q[i] - p[i]) * (q[i] - p[i]) / p[i];
+  // Closed form: w₁² = Σ q²/p − 1 over rows; row j (t ∈ [j, j+1]/10) has
+  // q = 1/10 and p = (19 − 2j)/100, so w₁² = Σ_{j<10} 1/(2j + 1) − 1.
+  double w1_squared_exact = -1;
+  for (int j = 0; j < grid.t_bins; ++j) w1_squared_exact += 1.0 / (2 * j + 1);
+  ASSERT_NEAR(w1_squared, w1_squared_exact, 1e-9);
   // The detectable effect depends only on N, the pooled dof and α: read it from any sample set.
   std::vector<Vec3> probe(kN, Vec3(0, 0, 1));
   const double w_detectable = chi2.test(probe, kTestAlpha, 1).detectable_effect;

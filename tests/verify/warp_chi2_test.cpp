@@ -265,5 +265,27 @@ TEST(PlanarWarpChi2NegativeControl, DiskSamplesVsLargerDiskPdf) {
   EXPECT_FALSE(r.pass) << r.message;
 }
 
+// --- two samplers compared without a pdf ------------------------------------
+
+// Malley's and the inversion cosine samplers must agree in distribution;
+// kSamples each, 41×20 hemisphere cells, α = the correct cases' per-test level
+// (uncounted in their family: a separate claim at the same level).
+TEST(TwoSampleChi2, MalleyAndInversionCosineSamplersAgree) {
+  const SphericalGrid grid = SphericalGrid::hemisphere(kGridK);
+  const double alpha = sidak_alpha(kFamilyAlpha, family_size());
+  const DirectionHistogram malley = direction_histogram(draw<Vec3>(stream_of("TwoSampleMalley"), sample_cosine_hemisphere_malley), grid);
+  const DirectionHistogram inversion = direction_histogram(draw<Vec3>(stream_of("TwoSampleInversion"), sample_cosine_hemisphere), grid);
+  EXPECT_EQ(malley.outside, 0u);
+  EXPECT_EQ(inversion.outside, 0u);
+  const Chi2Result r = chi2_two_sample(malley.counts, inversion.counts, alpha);
+  report(r);
+  EXPECT_TRUE(r.pass) << r.message;
+  // Negative control: uniform hemisphere samples differ from cosine ones.
+  const DirectionHistogram uniform = direction_histogram(draw<Vec3>(stream_of("TwoSampleUniform"), sample_uniform_hemisphere), grid);
+  const Chi2Result control = chi2_two_sample(uniform.counts, inversion.counts, alpha);
+  report(control);
+  EXPECT_FALSE(control.pass) << control.message;
+}
+
 }  // namespace
 }  // namespace furnace::stats
