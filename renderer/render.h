@@ -18,7 +18,8 @@ enum class Strategy {
   kLightArea,          // "light_area": a point uniform on an emitter's area + shadow ray
   // Appended by the renderer work (issues 4 and 5); never renumber the above.
   kLightSolidAngle,    // "light_solid_angle": cone for spheres, spherical triangle (Arvo 1995) and
-                       //   rectangle (Ureña et al. 2013); disks fall back to area sampling
+                       //   rectangle (Ureña et al. 2013); disks and sheared parallelograms fall
+                       //   back to area sampling
   kBsdf,               // "bsdf": the surface's BSDF sampling (cosine for Lambertian, lobe for Phong, mirror)
   kMisBalance,         // "mis_balance": one BSDF + one light_solid_angle sample, balance heuristic
   kMisPower,           // "mis_power": the same with the power heuristic (β = 2)
