@@ -133,7 +133,7 @@ double contour_quadrature(const std::vector<Arc>& arcs, const std::function<doub
       return g_over_s2(x * x + y * y) * c.radius * (c.radius + c.cx * ct + c.cy * st);
     };
     const double lo = std::fmin(arc.t0, arc.t0 + arc.sweep), hi = std::fmax(arc.t0, arc.t0 + arc.sweep);
-    const double value = gauss_kronrod<double, 61>::integrate(integrand, lo, hi, 15, 1e-14);
+    const double value = gauss_kronrod<double, 61>::integrate(integrand, lo, hi, 10, 1e-14);
     sum += arc.sweep >= 0 ? value : -value;
   }
   return sum;

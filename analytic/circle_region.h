@@ -47,7 +47,7 @@ double occluded_disk_irradiance(double h, const Circle2& light, const std::vecto
 // passes G(s)/s² as a function of s² (finite at s = 0, so arcs through the
 // foot point are harmless); along an arc, s²·dφ = r·(r + cx cos t + cy sin t) dt.
 // Each arc is integrated by adaptive Gauss–Kronrod (61 points, relative
-// tolerance 1e-14 of the arc's |integrand| integral, depth ≤ 15).
+// tolerance 1e-14 of the arc's |integrand| integral, depth ≤ 10).
 // Returns exactly 0 for an empty boundary.
 double contour_quadrature(const std::vector<Arc>& arcs, const std::function<double(double)>& g_over_s2);
 

@@ -40,8 +40,8 @@ double projected_solid_angle(const Scene& scene, size_t object, const Vec3& p, c
   return disk_irradiance_parallel(d.radius, h, length(offset - n * h));
 }
 
-double environment_irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optional<size_t> receiver) {
-  if (!(scene.environment.radiance > 0)) return 0.0;
+std::vector<size_t> environment_blockers(const Scene& scene, const Vec3& p, const Vec3& n,
+                                         std::optional<size_t> receiver) {
   std::vector<size_t> blockers;
   for (size_t j = 0; j < scene.objects.size(); ++j)
     if (!(receiver && j == *receiver) && height_range(scene.objects[j].shape, p, n).hi > 0) blockers.push_back(j);
@@ -63,8 +63,13 @@ double environment_irradiance(const Scene& scene, const Vec3& p, const Vec3& n, 
                                              scene.objects[blockers[a]].name + "' and '" +
                                              scene.objects[blockers[b]].name + "', which may overlap as seen from p,");
     }
+  return blockers;
+}
+
+double environment_irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optional<size_t> receiver) {
+  if (!(scene.environment.radiance > 0)) return 0.0;
   double blocked = 0;
-  for (size_t j : blockers) blocked += projected_solid_angle(scene, j, p, n);
+  for (size_t j : environment_blockers(scene, p, n, receiver)) blocked += projected_solid_angle(scene, j, p, n);
   return scene.environment.radiance * std::fmax(kPi - blocked, 0.0);
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <optional>
+#include <vector>
 
 #include "core/scene.h"
 
@@ -16,6 +17,12 @@ namespace furnace::analytic {
 //   disk wholly below the horizon: 0.
 // Throws furnace::Error for a tilted disk above the horizon and for p inside a sphere.
 double projected_solid_angle(const Scene& scene, size_t object, const Vec3& p, const Vec3& n);
+
+// The objects above p's horizon other than `receiver`, checked pairwise
+// non-overlapping as seen from p (see environment_irradiance); throws
+// furnace::Error when two may overlap.
+std::vector<size_t> environment_blockers(const Scene& scene, const Vec3& p, const Vec3& n,
+                                         std::optional<size_t> receiver);
 
 // E_env = ∫_{visible sky} L_env cos θ dω at p with unit normal n:
 //   E_env = L_env·(π − Σ_objects Ω⊥(object)),

@@ -6,6 +6,8 @@
 
 #include "analytic/circle_region.h"
 #include "analytic/disk_light.h"
+#include "analytic/emitter.h"
+#include "analytic/light_moments.h"
 #include "analytic/environment.h"
 #include "analytic/reference.h"
 
@@ -34,6 +36,54 @@ double area_kernel(const DiskLightView& v) {
   });
 }
 
+std::vector<Vec3> polygon_vertices_relative(const Shape& shape, const Vec3& p) {
+  if (const auto* r = std::get_if<Rectangle>(&shape))
+    return {r->corner - p, r->corner + r->edge_u - p, r->corner + r->edge_u + r->edge_v - p, r->corner + r->edge_v - p};
+  const auto& t = std::get<Triangle>(shape);
+  return {t.p0 - p, t.p1 - p, t.p2 - p};
+}
+
+// ∫_object max(cos θ, 0)² dω: the cos²-weighted solid angle an environment
+// blocker hides from the uniform-hemisphere estimator.
+double blocker_cos2_solid_angle(const Scene& scene, size_t j, const Vec3& p, const Vec3& n) {
+  const Object& o = scene.objects[j];
+  if (const auto* s = std::get_if<Sphere>(&o.shape)) return sphere_cos2_solid_angle(s->center - p, s->radius, n);
+  if (const auto* d = std::get_if<Disk>(&o.shape)) {
+    if (length(cross(normalize(d->normal), n)) > 1e-12)
+      unsupported_configuration(scene, "the uniform-hemisphere moment of an environment blocked by the tilted disk '" +
+                                           o.name + "'");
+    const Vec3 offset = d->center - p;
+    const double h = dot(offset, n);
+    const Frame f = Frame::from_normal(n);
+    DiskLightView view;
+    view.h = h;
+    view.light = {dot(offset, f.s), dot(offset, f.t), d->radius};
+    return hemisphere_kernel(view);
+  }
+  return polygon_cos2_solid_angle(polygon_vertices_relative(o.shape, p), n);
+}
+
+// Per-emitter kernels: K_hemisphere = ∫_visible cos²θ dω, K_area = ∫_visible (cos θ cos θ'/r²)² dA.
+double emitter_kernel(Estimator estimator, const Scene& scene, size_t i, const Vec3& p, const Vec3& n,
+                      std::optional<size_t> receiver) {
+  const Object& object = scene.objects[i];
+  const bool hemisphere = estimator == Estimator::kUniformHemisphere;
+  if (std::holds_alternative<Disk>(object.shape)) {
+    std::string reason;
+    const auto view = disk_light_view(scene, i, p, n, receiver, &reason);
+    if (view) return hemisphere ? hemisphere_kernel(*view) : area_kernel(*view);
+    if (reason.empty()) return 0.0;
+    unsupported_configuration(scene, reason + " (for a second moment)");
+  }
+  if (emitter_irradiance(scene, i, p, n, receiver) == 0) return 0.0;  // nothing of it reaches p
+  require_unoccluded(scene, i, p, n, receiver);
+  if (const auto* s = std::get_if<Sphere>(&object.shape))
+    return hemisphere ? sphere_cos2_solid_angle(s->center - p, s->radius, n)
+                      : sphere_area_kernel(s->center - p, s->radius, n);
+  const std::vector<Vec3> vertices = polygon_vertices_relative(object.shape, p);
+  return hemisphere ? polygon_cos2_solid_angle(vertices, n) : polygon_area_kernel(vertices, n);
+}
+
 }  // namespace
 
 double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, const Vec3& n,
@@ -46,20 +96,16 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const Object& object = scene.objects[i];
     if (!object.is_emitter() || (receiver && i == *receiver)) continue;
-    if (!std::holds_alternative<Disk>(object.shape))
-      unsupported_configuration(scene, "the emitter '" + object.name + "' (only disk emitters are solved so far)");
-    const auto view = disk_light_view(scene, i, p, n, receiver);
-    if (!view) continue;
     const double le = object.emitted_radiance;
     switch (estimator) {
       case Estimator::kUniformHemisphere:
-        moment += 2 * kPi * le * le * hemisphere_kernel(*view);
+        moment += 2 * kPi * le * le * emitter_kernel(estimator, scene, i, p, n, receiver);
         break;
       case Estimator::kCosineHemisphere:
-        moment += kPi * le * le * occluded_disk_irradiance(view->h, view->light, view->occluder_images);
+        moment += kPi * le * le * emitter_irradiance(scene, i, p, n, receiver);
         break;
       case Estimator::kLightArea:
-        moment += double(light_count) * shape_area(object.shape) * le * le * area_kernel(*view);
+        moment += double(light_count) * shape_area(object.shape) * le * le * emitter_kernel(estimator, scene, i, p, n, receiver);
         break;
     }
   }
@@ -67,13 +113,13 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
   if (e_env > 0) {
     const double l_env = scene.environment.radiance;
     switch (estimator) {
-      case Estimator::kUniformHemisphere:
-        // ∫ cos²θ dω = 2π/3 over the open hemisphere; the cos²-weighted solid
-        // angle of blockers is not solved, so a blocked sky is refused.
-        if (e_env != kPi * l_env)
-          unsupported_configuration(scene, "the uniform-hemisphere second moment under a partly blocked environment");
-        moment += 2 * kPi * l_env * l_env * (2 * kPi / 3);
+      case Estimator::kUniformHemisphere: {
+        // ∫ cos²θ dω = 2π/3 over the hemisphere, minus what the blockers hide.
+        double hidden = 0;
+        for (size_t j : environment_blockers(scene, p, n, receiver)) hidden += blocker_cos2_solid_angle(scene, j, p, n);
+        moment += 2 * kPi * l_env * l_env * std::fmax(2 * kPi / 3 - hidden, 0.0);
         break;
+      }
       case Estimator::kCosineHemisphere:
         moment += kPi * l_env * e_env;
         break;

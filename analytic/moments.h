@@ -3,9 +3,13 @@
 // Var Y = E[Y²] − E² (and test it), not only its mean E.
 //
 // Units: Y is an irradiance estimate (W·m⁻²); E[Y²] is in W²·m⁻⁴.
-// Supported configurations are those of irradiance(): disk emitters parallel
-// to the receiver with parallel disk occluders, and an unoccluded constant
-// environment; anything else throws furnace::Error like irradiance() does.
+// Supported: every emitter irradiance() solves for the cosine estimator
+// (E[Y²] = π Σ L·E needs only the irradiances); for the uniform-hemisphere
+// and light-area estimators, disk lights on the circle fast path (parallel
+// receiver, parallel disk occluders) and unoccluded sphere, rectangle and
+// triangle lights (light_moments.h); the environment with non-overlapping
+// blockers (spheres, polygons, parallel disks). Elsewhere throws
+// furnace::Error, like irradiance() does.
 #pragma once
 
 #include <optional>

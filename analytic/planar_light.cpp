@@ -62,7 +62,7 @@ double contour_irradiance(const Vec3& origin, const Vec3& e1, const Vec3& e2, co
       return dot(n, cross(x, dx)) / length_squared(x);
     };
     const double lo = std::fmin(c.t0, c.t0 + c.sweep), hi = std::fmax(c.t0, c.t0 + c.sweep);
-    const double value = gauss_kronrod<double, 61>::integrate(integrand, lo, hi, 15, 1e-14);
+    const double value = gauss_kronrod<double, 61>::integrate(integrand, lo, hi, 10, 1e-14);
     sum += c.sweep >= 0 ? value : -value;
   }
   return 0.5 * std::fabs(sum);

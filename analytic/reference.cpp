@@ -6,13 +6,10 @@
 #include <string>
 #include <variant>
 
-#include "analytic/circle_region.h"
 #include "analytic/disk_light.h"
+#include "analytic/emitter.h"
 #include "analytic/environment.h"
 #include "analytic/intersect.h"
-#include "analytic/occlusion.h"
-#include "analytic/planar_light.h"
-#include "analytic/sphere.h"
 #include "core/error.h"
 
 namespace furnace::analytic {
@@ -28,63 +25,12 @@ std::optional<Hit> intersect(const Scene& scene, const Vec3& origin, const Vec3&
   return best;
 }
 
-namespace {
-
-// Refuses the configuration unless no object other than the light and the
-// receiver can meet the hull of p and the light's bounding ball above p's
-// horizon (objects wholly below the horizon block only directions with
-// cos θ ≤ 0, which carry no irradiance).
-void require_unblocked(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
-                       std::optional<size_t> receiver) {
-  const Object& light = scene.objects[light_index];
-  const BoundingSphere light_ball = bounding_sphere(light.shape);
-  for (size_t j = 0; j < scene.objects.size(); ++j) {
-    if (j == light_index || (receiver && j == *receiver)) continue;
-    const Object& object = scene.objects[j];
-    if (height_range(object.shape, p, n).hi <= 0) continue;
-    if (!ball_may_meet_ball_cone(bounding_sphere(object.shape), p, light_ball)) continue;
-    unsupported_configuration(scene, "object '" + object.name + "', which may block part of the emitter '" + light.name +
-                                         "' (only disk occluders of parallel disk lights are solved so far),");
-  }
-}
-
-// E/L from a sphere emitter seen from outside (its front is its outside).
-double sphere_light_irradiance(const Scene& scene, size_t i, const Vec3& p, const Vec3& n,
-                               std::optional<size_t> receiver) {
-  const Object& light = scene.objects[i];
-  const Sphere& sphere = std::get<Sphere>(light.shape);
-  if (length(p - sphere.center) <= sphere.radius) {
-    if (!light.two_sided) return 0.0;  // inside a one-sided (outward) emitter: nothing arrives
-    unsupported_configuration(scene, "a receiving point inside the two-sided sphere light '" + light.name + "'");
-  }
-  const double e = sphere_irradiance(sphere.center - p, sphere.radius, n);
-  if (e == 0) return 0.0;
-  require_unblocked(scene, i, p, n, receiver);
-  return e;
-}
-
-}  // namespace
-
 double irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optional<size_t> receiver) {
   double e = 0;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const Object& object = scene.objects[i];
     if (!object.is_emitter() || (receiver && i == *receiver)) continue;
-    double e_over_l = 0;
-    if (std::holds_alternative<Disk>(object.shape)) {
-      // Fast path (hand-rolled circle Booleans, closed-form arcs); the general
-      // exact path when it does not apply.
-      std::string reason;
-      if (const auto view = disk_light_view(scene, i, p, n, receiver, &reason))
-        e_over_l = occluded_disk_irradiance(view->h, view->light, view->occluder_images);
-      else if (!reason.empty())
-        e_over_l = planar_light_irradiance(scene, i, p, n, receiver);
-    } else if (std::holds_alternative<Sphere>(object.shape)) {
-      e_over_l = sphere_light_irradiance(scene, i, p, n, receiver);
-    } else {
-      e_over_l = planar_light_irradiance(scene, i, p, n, receiver);
-    }
-    e += object.emitted_radiance * e_over_l;
+    e += object.emitted_radiance * emitter_irradiance(scene, i, p, n, receiver);
   }
   return e + environment_irradiance(scene, p, n, receiver);
 }

@@ -168,7 +168,7 @@ double disk_quadrature(const Vec3& center, double R, const Vec3& p, const Vec3& 
       const double r2 = length_squared(x);
       return std::fmax(dot(n, x), 0.0) * std::fabs(x.z) / (r2 * r2);
     };
-    return rho * boost::math::quadrature::gauss_kronrod<double, 61>::integrate(f, lo, hi, 15, 1e-13);
+    return rho * boost::math::quadrature::gauss_kronrod<double, 61>::integrate(f, lo, hi, 7, 1e-13);
   };
   boost::math::quadrature::tanh_sinh<double> outer;
   return outer.integrate(inner, 0.0, R, 1e-13);

@@ -1,0 +1,47 @@
+// Moment kernels of unoccluded sphere and polygon emitters, used by
+// second_moment (moments.h). Every function integrates over the part of the
+// emitter above p's horizon (cos θ > 0) that faces p; vertices and centres
+// are relative to p; n is p's unit normal. Dimensionless unless stated.
+#pragma once
+
+#include <vector>
+
+#include "core/vec3.h"
+
+namespace furnace::analytic {
+
+// ∫_cone max(cos θ, 0)² dω over the directions to a sphere of radius R
+// (|center| > R). Cone coordinates (γ, ψ) about the centre direction, angle β
+// to n: cos θ = a + b cos ψ with a = cos γ cos β, b = sin γ sin β; the ψ
+// integral of max(a + b cos ψ, 0)² is closed form,
+//   2[(a² + b²/2)ψ_m + 2ab sin ψ_m + (b²/4) sin 2ψ_m],  ψ_m = acos(clamp(−a/b)),
+// and γ ∈ [0, α] (sin α = R/|center|) by tanh–sinh, split where the horizon
+// starts to cut the rings (γ = |π/2 − β|). Relative tolerance 1e-13.
+double sphere_cos2_solid_angle(const Vec3& center, double R, const Vec3& n);
+
+// ∫_{visible surface} (cos θ cos θ'/r²)² dA of a sphere = ∫_cone max(cos θ, 0)²·cos θ'/r² dω
+// (dA = r² dω/cos θ'), with the near-side distance and cosine along a ray at
+// angle γ from the axis, D = |center|:
+//   r = (D² − R²)/(D cos γ + q),  cos θ' = q/R,  q = √((R − D sin γ)(R + D sin γ)),
+// both cancellation-free. Units: m⁻². Same quadrature as above.
+double sphere_area_kernel(const Vec3& center, double R, const Vec3& n);
+
+// ∫_P max(cos θ, 0)² dω over a planar polygon (clipped to the horizon first):
+// Arvo's recurrence for axial moments (Arvo, "Applications of Irradiance
+// Tensors to the Simulation of Non-Lambertian Phenomena", SIGGRAPH 1995):
+//   τ² = (σ + s·Σ_i (n_i·n)·∫_{edge i} (n·u) dθ)/3,
+// σ the polygon's solid angle (fans of Van Oosterom–Strackee triangles,
+// Ω = 2·atan2(a·(b × c), 1 + a·b + b·c + c·a)), n_i = unit(u_i × u_{i+1}),
+// the edge integral (n·a) sin Θ + (n·b)(1 − cos Θ) with b ⟂ a in the edge's
+// plane and 1 − cos Θ = 2 sin²(Θ/2), and s = ±1 the winding sign that makes
+// Lambert's first moment ½ s Σ Θ_i (n_i·n) positive.
+double polygon_cos2_solid_angle(const std::vector<Vec3>& vertices, const Vec3& n);
+
+// ∫_P (max(cos θ, 0)·cos θ'/r²)² dA over a planar polygon (vertices relative
+// to p, any winding; the rectangle as a parallelogram or the triangle),
+// by nested adaptive quadrature over its parameters (Gauss–Kronrod inside,
+// tanh–sinh outside), split where the horizon crosses an edge. Units: m⁻².
+// Relative tolerance about 1e-12.
+double polygon_area_kernel(const std::vector<Vec3>& vertices, const Vec3& n);
+
+}  // namespace furnace::analytic
