@@ -12,6 +12,7 @@
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 
 #include "core/error.h"
@@ -60,6 +61,21 @@ TEST_F(ExrIo, RoundTripKeepsMeanVarianceAndCount) {
     EXPECT_EQ(back.variance[i], float(image.pixels[i].sample_variance()));
     EXPECT_EQ(back.count[i], image.pixels[i].count);
   }
+}
+
+TEST_F(ExrIo, CountChannelReadsIntoAFloatFrameBuffer) {
+  // N is stored as UINT (exact counts); readers that ask for FLOAT (verify's
+  // `furnace check`) get OpenEXR's conversion, exact below 2^24.
+  const Image image = make_image(3, 2);
+  const fs::path path = dir_ / "count.exr";
+  write_exr(path, image);
+  Imf::InputFile file(path.string().c_str());
+  std::vector<float> n(6);
+  Imf::FrameBuffer frame;
+  frame.insert("N", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(n.data()), sizeof(float), 3 * sizeof(float)));
+  file.setFrameBuffer(frame);
+  file.readPixels(0, 1);
+  for (size_t i = 0; i < n.size(); ++i) EXPECT_EQ(n[i], float(image.pixels[i].count));
 }
 
 TEST_F(ExrIo, OverwritesAnExistingFileAtomically) {
