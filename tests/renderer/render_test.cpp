@@ -4,6 +4,7 @@
 // accumulator, names and errors.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
 #include <string>
 
@@ -231,6 +232,62 @@ TEST(DirectStrategies, AgreeOnAMixedLightScene) {
         << strategy_name(s) << ": " << m.mean << " ± " << m.standard_error << " vs light_area " << reference.mean
         << " ± " << reference.standard_error;
   }
+}
+
+// A glossy scene: Phong floor, Lambertian ball, rectangle and sphere lights,
+// an environment. BSDF sampling, light sampling and their MIS must agree for
+// non-Lambertian BSDFs too (direct strategies), and the naive and NEE+MIS
+// path tracers must agree with each other (two-sample z-tests on image means).
+Scene glossy_scene() {
+  Scene scene;
+  scene.name = "glossy";
+  scene.camera = make_camera(8);
+  scene.camera.center = {0, 0, 3};
+  scene.objects.push_back(make_object("floor", Rectangle{{-4, -4, 0}, {8, 0, 0}, {0, 8, 0}}, 0.8, 0, BsdfType::kPhong, 20));
+  scene.objects.push_back(make_object("ball", Sphere{{0.4, 0.3, 0.5}, 0.5}, 0.6));
+  scene.objects.push_back(make_object("panel", Rectangle{{-1.5, -0.5, 1.2}, {0, 1.0, 0}, {0.6, 0, 0}}, 0, 5.0));
+  scene.objects.push_back(make_object("bulb", Sphere{{-0.6, 1.0, 1.0}, 0.2}, 0, 8.0));
+  scene.environment.radiance = 0.3;
+  return scene;
+}
+
+testing_support::Estimate image_mean_estimate(const Scene& scene, Strategy s, int spp) {
+  RenderOptions o;
+  o.strategy = s;
+  o.spp = spp;
+  o.seed = kSeed;
+  const Image image = render(scene, o);
+  double sum = 0, variance_of_sum = 0;
+  for (const PixelMoments& p : image.pixels) {
+    sum += p.mean;
+    variance_of_sum += p.sample_variance() / double(p.count);
+  }
+  const double n = double(image.pixels.size());
+  return {sum / n, std::sqrt(variance_of_sum) / n};
+}
+
+TEST(DirectStrategies, AgreeOnAGlossyScene) {
+  const Scene scene = glossy_scene();
+  const auto reference = image_mean_estimate(scene, Strategy::kMisPower, 4096);
+  for (Strategy s : {Strategy::kBsdf, Strategy::kLightArea, Strategy::kLightSolidAngle, Strategy::kMisBalance}) {
+    const auto m = image_mean_estimate(scene, s, 4096);
+    std::printf("%s: %.6f ± %.6f (mis_power %.6f ± %.6f)\n", strategy_name(s).c_str(), m.mean, m.standard_error,
+                reference.mean, reference.standard_error);
+    EXPECT_TRUE(testing_support::means_consistent(reference, m))
+        << strategy_name(s) << ": " << m.mean << " ± " << m.standard_error << " vs mis_power " << reference.mean
+        << " ± " << reference.standard_error;
+  }
+}
+
+TEST(PathTracer, NaiveAndMisAgreeOnAGlossyScene) {
+  const Scene scene = glossy_scene();
+  const auto naive = image_mean_estimate(scene, Strategy::kPathNaive, 8192);
+  const auto mis = image_mean_estimate(scene, Strategy::kPathMis, 4096);
+  std::printf("path_naive %.6f ± %.6f, path_mis %.6f ± %.6f\n", naive.mean, naive.standard_error, mis.mean,
+              mis.standard_error);
+  EXPECT_TRUE(testing_support::means_consistent(naive, mis))
+      << "naive " << naive.mean << " ± " << naive.standard_error << " vs mis " << mis.mean << " ± "
+      << mis.standard_error;
 }
 
 TEST(PathTracer, MirrorReflectsTheLight) {
