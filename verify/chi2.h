@@ -17,8 +17,16 @@
 //    the test detects with probability kDefaultPower, from Boost's
 //    non-central chi-square.
 //
-// The grid must cover the pdf's support; the pdf is not renormalised, so a
-// pdf whose integral is not 1 fails (pdf_integral reports it).
+// The grid must cover the pdf's support, and should have cell edges along
+// its boundary (a hemisphere or cone grid for a hemisphere or cone; the
+// shape's own coordinates for a spherical triangle): quadrature cannot see a
+// sliver of support that falls between its nodes, and a sample there would
+// read as a sample in a zero-expectation cell. The pdf is not renormalised:
+// a wrong normalisation enters the statistic, and pdf_integral reports it.
+//
+// Also here: the same test for points in a rectangle (PlanarChi2) or on an
+// interval, and a two-sample (homogeneity) test of two samplers' histograms
+// when no pdf is available.
 #pragma once
 
 #include <array>
