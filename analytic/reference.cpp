@@ -37,6 +37,11 @@ double irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optiona
 
 double pixel_center_radiance(const Scene& scene, int px, int py) {
   const Camera::Ray ray = scene.camera.pixel_center_ray(px, py);
+  return ray_radiance(scene, ray.origin, ray.direction);
+}
+
+double ray_radiance(const Scene& scene, const Vec3& origin, const Vec3& direction) {
+  const Camera::Ray ray{origin, direction};
   const std::optional<Hit> hit = intersect(scene, ray.origin, ray.direction);
   if (!hit) return scene.environment.radiance;
   const Object& object = scene.objects[hit->object_index];

@@ -36,6 +36,10 @@ double irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optiona
 // surface; the environment radiance on a miss.
 double pixel_center_radiance(const Scene& scene, int px, int py);
 
+// The same quantity for any camera ray (origin, unit direction): what
+// pixel_center_radiance evaluates at the pixel centre's ray.
+double ray_radiance(const Scene& scene, const Vec3& origin, const Vec3& direction);
+
 // All pixel centres, row-major (index = py * width + px).
 std::vector<double> reference_image(const Scene& scene);
 
