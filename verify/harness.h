@@ -20,6 +20,8 @@ inline constexpr double kDefaultFamilyAlpha = 0.01;
 // would catch with probability 1 − β. 0.9 is the usual design power.
 inline constexpr double kReportedPower = 0.9;
 
+// Each pixel's mean is tested with Hall's skewness-corrected t statistic
+// (harness.cpp, hall_statistic) against Student's t quantile.
 // A pixel's t-test is only valid when its sample mean is close to normal.
 // For skewed estimators (a hemisphere sample that rarely hits a small light is
 // nearly Bernoulli with small p, skewness ≈ 1/√p) the normal approximation
