@@ -28,7 +28,14 @@ std::optional<Hit> intersect(const Scene& scene, const Vec3& origin, const Vec3&
 // above p's horizon, plus the constant environment over its visible part.
 // `receiver` is excluded from the occluders (the surface p lies on).
 // Throws furnace::Error naming the scene and objects when the configuration is
-// outside what the library solves exactly.
+// outside what the library solves exactly. Solved (see emitter.h):
+//  - disk lights with a parallel receiver and parallel disk occluders: closed
+//    form (Howell B-13) or hand-rolled circle Booleans + closed-form arcs;
+//  - disk, rectangle and triangle lights with any receiver tilt (horizon
+//    clipped) behind parallel disks and planar polygons strictly between:
+//    exact CGAL Booleans + contour integral (Lambert edges, quadrature arcs);
+//  - unoccluded sphere lights (Snyder, horizon straddle included);
+//  - a constant environment minus non-overlapping blockers.
 double irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optional<size_t> receiver);
 
 // Radiance the camera sees through the centre of pixel (px, py) for direct
