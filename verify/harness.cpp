@@ -243,15 +243,16 @@ std::string format_table(const std::vector<Verdict>& verdicts, double family_alp
   out += fmt::format("family-wise alpha {} (Sidak over {} cases, each over its pixels + image mean); "
                      "detectable bias at power {}\n",
                      family_alpha, verdicts.size(), kReportedPower);
-  out += fmt::format("{:<16} {:<20} {:>6} {:>12} {:>12} {:>8} {:>7} {:>10} {:>7} {:>10} {:>9} {:>8} {:>11}  {}\n", "scene",
-                     "strategy", "spp", "mean", "reference", "z", "z crit", "px fail", "px skip", "detect", "px detect",
-                     "time s", "Msamples/s", "verdict");
+  out += fmt::format("{:<19} {:<20} {:>6} {:>10} {:>10} {:>7} {:>6} {:>9} {:>7} {:>9} {:>9} {:>9} {:>7} {:>10}  {}\n",
+                     "scene", "strategy", "spp", "mean", "reference", "z", "z crit", "px fail", "px skip", "rel RMSE",
+                     "detect", "px detect", "time s", "Msamples/s", "verdict");
   for (const Verdict& v : verdicts) {
     std::string strategy = v.strategy;
     if (v.defect != "none") strategy += "+" + v.defect;
-    out += fmt::format("{:<16} {:<20} {:>6} {:>12.6g} {:>12.6g} {:>8.3f} {:>7.2f} {:>5}/{:<4} {:>7} {:>9.3g}% {:>8.3g}% {:>8.3f} {:>11.3g}  {}\n",
+    out += fmt::format("{:<19} {:<20} {:>6} {:>10.6g} {:>10.6g} {:>7.3f} {:>6.2f} {:>4}/{:<4} {:>7} {:>9.3g} {:>8.3g}% {:>8.3g}% {:>7.3f} {:>10.3g}  {}\n",
                        v.scene, strategy, v.spp, v.image_mean, v.reference_mean, v.z, v.threshold,
-                       v.pixel_failures, v.pixels, v.pixels_untested, 100 * v.detectable_rel_bias,
+                       v.pixel_failures, v.pixels, v.pixels_untested,
+                       v.reference_mean > 0 ? v.rmse / v.reference_mean : v.rmse, 100 * v.detectable_rel_bias,
                        100 * v.median_pixel_detectable_rel_bias, v.seconds, v.samples_per_second / 1e6,
                        v.pass ? "pass" : "FAIL");
     if (v.variance_tested)
