@@ -38,6 +38,23 @@ std::vector<Vec3> clip_below(const std::vector<Vec3>& v, const Vec3& p, const Ve
   return out;
 }
 
+// The part of a polygon on the side of the plane through p and the points a,
+// b (all in world space) that contains `inside` (Sutherland–Hodgman).
+std::vector<Vec3> clip_by_plane_through_p(const std::vector<Vec3>& v, const Vec3& p, const Vec3& a, const Vec3& b,
+                                          const Vec3& inside) {
+  Vec3 m = cross(a - p, b - p);
+  if (dot(m, inside - p) < 0) m = -m;
+  std::vector<Vec3> out;
+  for (size_t i = 0; i < v.size(); ++i) {
+    const Vec3& x = v[i];
+    const Vec3& y = v[(i + 1) % v.size()];
+    const double dx = dot(m, x - p), dy = dot(m, y - p);
+    if (dx >= 0) out.push_back(x);
+    if ((dx > 0 && dy < 0) || (dx < 0 && dy > 0)) out.push_back(x + (y - x) * (dx / (dx - dy)));
+  }
+  return out;
+}
+
 }  // namespace
 
 double contour_irradiance(const Vec3& origin, const Vec3& e1, const Vec3& e2, const std::vector<Curve2>& boundary,
@@ -104,6 +121,19 @@ double planar_light_irradiance(const Scene& scene, size_t light_index, const Vec
 
   std::vector<Region2> occluders;
   const BoundingSphere light_ball = bounding_sphere(light.shape);
+  // The light's bounding square in its plane (world space) and its centre.
+  double x_lo = INFINITY, x_hi = -INFINITY, y_lo = INFINITY, y_hi = -INFINITY;
+  if (light_region.circle) {
+    const Circle2& c = *light_region.circle;
+    x_lo = c.cx - c.radius, x_hi = c.cx + c.radius, y_lo = c.cy - c.radius, y_hi = c.cy + c.radius;
+  }
+  for (const Point2& q : light_region.polygon) {
+    x_lo = std::fmin(x_lo, q.x), x_hi = std::fmax(x_hi, q.x);
+    y_lo = std::fmin(y_lo, q.y), y_hi = std::fmax(y_hi, q.y);
+  }
+  auto world = [&](double x, double y) { return foot + frame.s * x + frame.t * y; };
+  const Vec3 pyramid[4] = {world(x_lo, y_lo), world(x_hi, y_lo), world(x_hi, y_hi), world(x_lo, y_hi)};
+  const Vec3 light_centre = world(0.5 * (x_lo + x_hi), 0.5 * (y_lo + y_hi));
   for (size_t j = 0; j < scene.objects.size(); ++j) {
     if (j == light_index || (receiver && j == *receiver)) continue;
     const Object& object = scene.objects[j];
@@ -119,7 +149,15 @@ double planar_light_irradiance(const Scene& scene, size_t light_index, const Vec
       continue;
     }
     if (std::holds_alternative<Rectangle>(object.shape) || std::holds_alternative<Triangle>(object.shape)) {
-      const std::vector<Vec3> clipped = clip_below(polygon_vertices(object.shape), p, w, h);
+      // Keep only the part inside the pyramid from p over the light's bounding
+      // square (it contains every segment from p to the light, so the rest
+      // blocks nothing); its only point at p's height is p itself, so an
+      // occluder standing on the receiver plane away from p projects to a
+      // bounded polygon.
+      std::vector<Vec3> clipped = clip_below(polygon_vertices(object.shape), p, w, h);
+      for (int k = 0; k < 4 && clipped.size() >= 3; ++k)
+        clipped = clip_by_plane_through_p(clipped, p, pyramid[k], pyramid[(k + 1) % 4], light_centre);
+      if (clipped.size() < 3) continue;  // outside the pyramid: blocks nothing
       Region2 image;
       bool in_front = clipped.size() >= 3;
       for (const Vec3& v : clipped) {
@@ -128,7 +166,7 @@ double planar_light_irradiance(const Scene& scene, size_t light_index, const Vec
         if (in_front) image.polygon.push_back(to_2d(p + (v - p) * (h / zv)));
       }
       if (!in_front)
-        unsupported_configuration(scene, "object '" + object.name + "', which reaches p's plane while it may block the light '" +
+        unsupported_configuration(scene, "object '" + object.name + "', which touches the receiving point while it may block the light '" +
                                              light.name + "',");
       occluders.push_back(image);
       continue;

@@ -31,9 +31,10 @@ double contour_irradiance(const Vec3& origin, const Vec3& e1, const Vec3& e2, co
 // (`receiver` excluded). Objects wholly below p's horizon, wholly behind p
 // or beyond the light's plane, or whose bounding ball misses the hull of p
 // and the light's bounding ball, are ignored. The rest must be disks
-// parallel to the light (projected as circles) or rectangles/triangles lying
-// strictly in front of p's plane parallel to the light (projected centrally
-// onto the light plane as polygons, after clipping at the light plane);
+// parallel to the light (projected as circles) or rectangles/triangles
+// (clipped to the pyramid from p over the light's bounding square and to the
+// light's plane, then projected centrally onto the light plane as polygons;
+// an occluder may stand on the receiver plane, but not touch p itself);
 // throws furnace::Error otherwise (tilted disks and spheres project to
 // ellipses, which the circle–segment Booleans do not represent).
 // Returns exactly 0 when nothing is visible.

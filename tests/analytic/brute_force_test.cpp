@@ -137,5 +137,23 @@ INSTANTIATE_TEST_SUITE_P(Points, ExactPathBruteForce,
                                          BruteCase{"HorizonCutsLight", {0.1, 0.1, 0}, {1, 0.2, 0.15}}),
                          [](const auto& info) { return info.param.name; });
 
+// A wall standing on the receiver plane next to p: its projection from p is
+// unbounded, so the exact path clips it to the pyramid over the light first.
+TEST(ExactPathBruteForceWall, WallOnTheFloorMatchesRayCastAreaIntegral) {
+  Scene scene;
+  scene.name = "wall";
+  scene.source = "brute_force_test";
+  scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, {BsdfType::kLambertian, 0.5, 0}, 0});
+  scene.objects.push_back({"light", Disk{{0, 0, 2}, {0, 0, -1}, 0.75}, {}, 4.0});
+  const double unblocked = irradiance(scene, {0.1, 0, 0}, {0, 0, 1}, size_t(0));
+  scene.objects.push_back({"wall", Rectangle{{0.3, -1, 0}, {0, 2, 0}, {0.1, 0, 1.5}}, {}, 0});
+  EXPECT_LT(irradiance(scene, {0.1, 0, 0}, {0, 0, 1}, size_t(0)), 0.9 * unblocked);  // the wall does hide light
+  for (const Vec3& p : {Vec3{0.1, 0, 0}, Vec3{-0.4, 0.6, 0}, Vec3{0.2, 0.95, 0}}) {
+    const double exact = irradiance(scene, p, {0, 0, 1}, size_t(0));
+    const double expected = brute_force(scene, 1, p, {0, 0, 1});
+    EXPECT_LE(std::fabs(exact - expected) / expected, 1e-10) << exact << " vs " << expected;
+  }
+}
+
 }  // namespace
 }  // namespace furnace::analytic
