@@ -60,6 +60,21 @@ double BsdfStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_world) const 
 
 // ---------------------------------------------------------------------------
 
+MisWeights mis_weights(const MisPdfs& pdfs, int beta, Defect defect) {
+  if (defect == Defect::kMisUnnormalisedWeight) {
+    // DEFECT(mis_unnormalised_weight): p_a^β/max(p_a, p_b)^β; the weights sum to 1 + (min/max)^β.
+    const double larger = std::fmax(pdfs.p_bsdf, pdfs.p_light);
+    if (!(larger > 0)) return {};
+    return {std::pow(pdfs.p_bsdf / larger, beta), std::pow(pdfs.p_light / larger, beta)};
+  }
+  return {mis_weight(pdfs.p_bsdf, pdfs.p_light, beta), mis_weight(pdfs.p_light, pdfs.p_bsdf, beta)};
+}
+
+MisPdfs DirectLighting::mis_pdfs(const ShadingContext& ctx, const Vec3& wi_world,
+                                 const std::optional<SurfaceHit>& hit) const {
+  return {BsdfStrategy{defect_}.pdf(ctx, wi_world), light_.pdf(ctx, wi_world, hit)};
+}
+
 DirectLighting::DirectLighting(const EmbreeScene& scene, const LightSet& lights, Strategy strategy, Defect defect)
     : scene_(scene), lights_(lights), strategy_(strategy), defect_(defect) {
   light_.scene = &scene;
@@ -91,14 +106,15 @@ double DirectLighting::estimate_mis(const ShadingContext& ctx, Rng& rng, TraceCo
     const auto hit = trace_from(scene_, ctx, s->wi_world, counters);
     const double le = emitted_radiance_towards(scene_.scene(), hit);
     if (le > 0) {
-      const double w = s->delta ? 1.0 : mis_weight(s->pdf_solid_angle, light_.pdf(ctx, s->wi_world, hit), beta);
+      const double w =
+          s->delta ? 1.0 : mis_weights({s->pdf_solid_angle, light_.pdf(ctx, s->wi_world, hit)}, beta, defect_).w_bsdf;
       estimate += w * s->weight * le;
     }
   }
   // One light sample, weighted against the BSDF's density (0 for a delta BSDF, whose eval is 0 anyway).
   if (const auto s = light_.sample(ctx, next_uniform3(rng)); s && s->weight != 0) {
     if (light_visible(scene_, *s, counters)) {
-      const double w = mis_weight(s->pdf_solid_angle, bsdf.pdf(ctx, s->wi_world), beta);
+      const double w = mis_weights({bsdf.pdf(ctx, s->wi_world), s->pdf_solid_angle}, beta, defect_).w_light;
       estimate += w * s->weight * s->radiance;
     }
   }

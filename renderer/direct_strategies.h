@@ -8,8 +8,8 @@
 // light_strategy.h; DirectLighting combines them (single strategy or MIS).
 //
 // NEGATIVE CONTROLS: the Defect values of render.h are implemented at lines
-// marked "DEFECT(...)" (here, in light_strategy.cpp and estimator.h). With
-// Defect::kNone none of them is active.
+// marked "DEFECT(...)" (here, in light_strategy.cpp, estimator.h and
+// path_tracer.cpp). With Defect::kNone none of them is active.
 #pragma once
 
 #include <array>
@@ -45,12 +45,31 @@ struct BsdfStrategy {
   double pdf(const ShadingContext& ctx, const Vec3& wi_world) const;
 };
 
+// The two strategies' densities (solid angle, sr⁻¹) of one direction, as MIS
+// weighs them: p_bsdf from BsdfStrategy::pdf, p_light from the light strategy
+// of mis_balance/mis_power (light_solid_angle) for the ray that found `hit`.
+struct MisPdfs {
+  double p_bsdf = 0;
+  double p_light = 0;
+};
+// The MIS weights of the BSDF and the light sample of one direction under
+// heuristic β (1 balance, 2 power): w_bsdf + w_light = 1 wherever either
+// density is positive, except under DEFECT(mis_unnormalised_weight).
+struct MisWeights {
+  double w_bsdf = 0;
+  double w_light = 0;
+};
+MisWeights mis_weights(const MisPdfs& pdfs, int beta, Defect defect);
+
 // The single-sample estimate of ∫ f·Li·cos θi dωi at ctx by `strategy`
 // (one of the direct-lighting strategies).
 class DirectLighting {
  public:
   DirectLighting(const EmbreeScene& scene, const LightSet& lights, Strategy strategy, Defect defect);
   double estimate(const ShadingContext& ctx, Rng& rng, TraceCounters& counters) const;
+  // Both strategies' densities of wi_world at ctx (the ray along it found
+  // `hit`), exactly as estimate_mis() weighs its samples. For tests of MIS.
+  MisPdfs mis_pdfs(const ShadingContext& ctx, const Vec3& wi_world, const std::optional<SurfaceHit>& hit) const;
 
  private:
   template <typename DirectionStrategy>

@@ -12,7 +12,8 @@ PathTracer::PathTracer(const EmbreeScene& scene, const LightSet& lights, const R
     : scene_(scene),
       next_event_(options.strategy == Strategy::kPathMis),
       max_depth_(options.max_depth),
-      roulette_depth_(options.roulette_depth) {
+      roulette_depth_(options.roulette_depth),
+      defect_(options.defect) {
   light_.scene = &scene;
   light_.lights = &lights;
   light_.emitter_sampling = EmitterSampling::kSolidAngle;
@@ -37,7 +38,8 @@ double PathTracer::radiance(const Vec3& direction, const std::optional<SurfaceHi
     const double le = emitted_radiance_towards(scene, hit);
     if (le > 0) {
       double w = 1;
-      if (next_event_ && !previous_delta)
+      // DEFECT(double_count_emission): weight 1 here although the light sample also counts this emission.
+      if (next_event_ && !previous_delta && defect_ != Defect::kDoubleCountEmission)
         w = mis_weight(previous_pdf_bsdf, light_.pdf(*previous, wi_world, hit), kPowerHeuristic);
       radiance += throughput * w * le;
     }
@@ -63,7 +65,8 @@ double PathTracer::radiance(const Vec3& direction, const std::optional<SurfaceHi
     if (depth >= roulette_depth_) {
       const double survive = std::min(1.0, throughput);
       if (!(rng.next_double() < survive)) break;
-      throughput /= survive;  // unbiased: E[throughput'] = throughput
+      // Unbiased: E[throughput'] = throughput. DEFECT(roulette_no_reweight) skips the division.
+      if (defect_ != Defect::kRouletteNoReweight) throughput /= survive;
     }
 
     hit = trace_from(scene_, ctx, s->wi_world, counters);

@@ -31,6 +31,7 @@ class PathTracer {
   bool next_event_;
   int max_depth_;
   int roulette_depth_;
+  Defect defect_;  // DEFECT(roulette_no_reweight), DEFECT(double_count_emission) in path_tracer.cpp
   LightStrategy light_;
   BsdfStrategy bsdf_;
 };

@@ -49,6 +49,9 @@ constexpr DefectInfo kDefects[] = {
     {Defect::kDropLightCosine, "drop_light_cosine"},
     {Defect::kPdfOffByConstant, "pdf_off_by_constant"},
     {Defect::kSkipShadowRay, "skip_shadow_ray"},
+    {Defect::kRouletteNoReweight, "roulette_no_reweight"},
+    {Defect::kDoubleCountEmission, "double_count_emission"},
+    {Defect::kMisUnnormalisedWeight, "mis_unnormalised_weight"},
 };
 
 bool is_path_tracer(Strategy s) { return s == Strategy::kPathNaive || s == Strategy::kPathMis; }

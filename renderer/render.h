@@ -34,6 +34,12 @@ enum class Defect {
   kDropLightCosine,     // "drop_light_cosine": light_area forgets cos θ' (area→solid angle Jacobian)
   kPdfOffByConstant,    // "pdf_off_by_constant": the pdf used in the weight is 1.1× the true one
   kSkipShadowRay,       // "skip_shadow_ray": light_area treats every light sample as visible
+  // Path-tracer and MIS controls (appended; never renumber the above).
+  kRouletteNoReweight,  // "roulette_no_reweight": Russian roulette survivors not divided by the survival probability
+  kDoubleCountEmission, // "double_count_emission": path_mis counts emission found by the BSDF continuation with
+                        //   weight 1 as well as the light sample's MIS-weighted share (emission counted twice)
+  kMisUnnormalisedWeight,  // "mis_unnormalised_weight": mis_balance/mis_power divide by the larger density
+                           //   instead of the sum (weights p_a^β/max(p_a, p_b)^β sum to more than 1)
 };
 
 std::string strategy_name(Strategy s);
