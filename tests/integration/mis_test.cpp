@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <limits>
 #include <optional>
+#include <ostream>
 #include <string>
 
 #include <boost/math/distributions/normal.hpp>
@@ -235,6 +236,9 @@ constexpr int kMeanSpp = 1024;
 constexpr double kCaseAlpha = 1e-3;
 
 class MisControl : public testing::TestWithParam<Strategy> {};
+}  // namespace
+void PrintTo(Strategy s, std::ostream* os) { *os << strategy_name(s); }
+namespace {
 
 TEST_P(MisControl, UnnormalisedWeightFailsAndCleanPasses) {
   verify::Case c;
