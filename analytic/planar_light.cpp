@@ -55,6 +55,29 @@ std::vector<Vec3> clip_by_plane_through_p(const std::vector<Vec3>& v, const Vec3
   return out;
 }
 
+// Relative size below which a projected occluder counts as a sliver.
+constexpr double kSliverArea = 1e-12;
+
+double polygon_area_2d(const std::vector<Point2>& v) {
+  double twice = 0;
+  for (size_t i = 0; i < v.size(); ++i) {
+    const Point2& a = v[i];
+    const Point2& b = v[(i + 1) % v.size()];
+    twice += a.x * b.y - a.y * b.x;
+  }
+  return 0.5 * twice;
+}
+
+// Drops points within `tolerance` of their predecessor (cyclically).
+std::vector<Point2> without_repeats(const std::vector<Point2>& v, double tolerance) {
+  std::vector<Point2> out;
+  for (const Point2& q : v)
+    if (out.empty() || std::hypot(q.x - out.back().x, q.y - out.back().y) > tolerance) out.push_back(q);
+  while (out.size() > 1 && std::hypot(out.front().x - out.back().x, out.front().y - out.back().y) <= tolerance)
+    out.pop_back();
+  return out;
+}
+
 }  // namespace
 
 double contour_irradiance(const Vec3& origin, const Vec3& e1, const Vec3& e2, const std::vector<Curve2>& boundary,
@@ -134,6 +157,8 @@ double planar_light_irradiance(const Scene& scene, size_t light_index, const Vec
   auto world = [&](double x, double y) { return foot + frame.s * x + frame.t * y; };
   const Vec3 pyramid[4] = {world(x_lo, y_lo), world(x_hi, y_lo), world(x_hi, y_hi), world(x_lo, y_hi)};
   const Vec3 light_centre = world(0.5 * (x_lo + x_hi), 0.5 * (y_lo + y_hi));
+  const double light_extent = std::fmax(x_hi - x_lo, y_hi - y_lo);
+  const double light_square_area = light_extent * light_extent;
   for (size_t j = 0; j < scene.objects.size(); ++j) {
     if (j == light_index || (receiver && j == *receiver)) continue;
     const Object& object = scene.objects[j];
@@ -168,6 +193,14 @@ double planar_light_irradiance(const Scene& scene, size_t light_index, const Vec
       if (!in_front)
         unsupported_configuration(scene, "object '" + object.name + "', which touches the receiving point while it may block the light '" +
                                              light.name + "',");
+      // Slivers: an occluder that only touches the pyramid (a wall sharing an
+      // edge with the light, as in a closed box) leaves a polygon of zero or
+      // rounding-level area, which would violate the Booleans' simplicity
+      // precondition. Drop repeated points and polygons of area below
+      // kSliverArea of the light's bounding square; the light they could
+      // hide is at most that fraction of its area.
+      image.polygon = without_repeats(image.polygon, kSliverArea * light_extent);
+      if (image.polygon.size() < 3 || std::fabs(polygon_area_2d(image.polygon)) <= kSliverArea * light_square_area) continue;
       occluders.push_back(image);
       continue;
     }

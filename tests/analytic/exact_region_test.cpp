@@ -174,6 +174,28 @@ double disk_quadrature(const Vec3& center, double R, const Vec3& p, const Vec3& 
   return outer.integrate(inner, 0.0, R, 1e-13);
 }
 
+// Inside a closed box the five other walls tile the hemisphere of a floor
+// point, so their irradiance is exactly π·Le whatever the point: the walls
+// touching the lit wall along an edge must not count as occluders (they
+// reach the light only along a zero-area sliver).
+TEST(ExactPath, ClosedBoxWallsTileTheHemisphere) {
+  Scene scene;
+  scene.name = "box";
+  scene.source = "exact_region_test";
+  const double le = 1.0;
+  auto wall = [&](const std::string& name, Vec3 corner, Vec3 u, Vec3 v) {
+    scene.objects.push_back({name, Rectangle{corner, u, v}, {BsdfType::kLambertian, 0.9, 0}, le});
+  };
+  wall("floor", {-1, -1, -1}, {2, 0, 0}, {0, 2, 0});
+  wall("ceiling", {-1, -1, 1}, {0, 2, 0}, {2, 0, 0});
+  wall("west", {-1, -1, -1}, {0, 2, 0}, {0, 0, 2});
+  wall("east", {1, -1, -1}, {0, 0, 2}, {0, 2, 0});
+  wall("south", {-1, -1, -1}, {0, 0, 2}, {2, 0, 0});
+  wall("north", {-1, 1, -1}, {2, 0, 0}, {0, 0, 2});
+  for (const Vec3& p : {Vec3{0, 0, -1}, Vec3{0.3, -0.2, -1}, Vec3{0.95, 0.9, -1}})
+    EXPECT_LE(relative_error(irradiance(scene, p, kUp, size_t(0)), kPi * le), 1e-12) << p.x << " " << p.y;
+}
+
 struct TiltCase {
   std::string name;
   Vec3 n;
