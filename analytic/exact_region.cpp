@@ -9,6 +9,7 @@
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/General_polygon_set_2.h>
 #include <CGAL/Gps_circle_segment_traits_2.h>
+#include <CGAL/Polygon_2.h>
 
 #include "core/error.h"
 #include "core/vec3.h"
@@ -60,6 +61,12 @@ Polygon to_cgal(const Region2& region) {
   if (v.size() < 3 || !(std::fabs(area) > 0))
     throw Error("exact_visible_boundary: a polygon needs at least 3 vertices and a non-zero area.");
   if (area < 0) std::reverse(v.begin(), v.end());
+  // The Booleans require simple polygons (a violated precondition is
+  // undefined behaviour in a release build): check exactly, refuse otherwise.
+  CGAL::Polygon_2<Kernel> outline;
+  for (const Point2& q : v) outline.push_back(Kernel::Point_2(q.x, q.y));
+  if (!outline.is_simple())
+    throw Error("exact_visible_boundary: a projected polygon is not simple (self-intersecting or with repeated vertices).");
   for (size_t i = 0; i < v.size(); ++i) {
     const Point2& a = v[i];
     const Point2& b = v[(i + 1) % v.size()];

@@ -46,8 +46,8 @@ struct Curve2 {
 // Boundary of (light ∩ keep) \ ∪ occluders. `keep` (optional) is clipped as
 // a large convex polygon covering the light's bounding box four times over.
 // Empty when nothing is visible. Throws furnace::Error for degenerate input
-// (a polygon with fewer than 3 vertices or zero area, a circle of radius ≤ 0
-// used as the light).
+// (a polygon with fewer than 3 vertices, zero area or not simple — checked
+// with exact predicates — or a circle of radius ≤ 0).
 std::vector<Curve2> exact_visible_boundary(const Region2& light, const std::vector<Region2>& occluders,
                                            const std::optional<HalfPlane2>& keep);
 

@@ -64,6 +64,8 @@ TEST(ExactRegion, AreasAndOrientation) {
 TEST(ExactRegion, RejectsDegeneratePolygons) {
   EXPECT_THROW(exact_visible_boundary({{{0, 0}, {1, 1}}, {}}, {}, std::nullopt), Error);
   EXPECT_THROW(exact_visible_boundary(circle(0, 0, 0), {}, std::nullopt), Error);
+  const Region2 bow_tie{{{0, 0}, {2, 2}, {2, 0}, {0, 1}}, {}};  // self-intersecting, area ≠ 0
+  EXPECT_THROW(exact_visible_boundary(square(0, 0, 2, 2), {bow_tie}, std::nullopt), Error);
 }
 
 // Parallel planes, receiver normal along the plane normal: the exact path's
