@@ -38,6 +38,14 @@ namespace {
 bool is_planar(const Shape& s) { return !std::holds_alternative<Sphere>(s); }
 bool is_mirror(const Object& o) { return o.material.type == BsdfType::kMirror; }
 
+// The centroid of a planar shape (a point on it, away from its edges).
+Vec3 planar_center(const Shape& s) {
+  if (const auto* r = std::get_if<Rectangle>(&s)) return r->corner + (r->edge_u + r->edge_v) * 0.5;
+  if (const auto* d = std::get_if<Disk>(&s)) return d->center;
+  const auto& t = std::get<Triangle>(s);
+  return (t.p0 + t.p1 + t.p2) / 3.0;
+}
+
 enum class Kind { kEnclosure, kFurnace, kDirectOnly };
 
 struct Classification {
@@ -73,10 +81,26 @@ Classification classify(const Scene& scene, int max_segments) {
       no_closed_form(scene, "a closed enclosure needs one albedo and one emission on every object");
     if (*albedo >= 1 && max_segments == kUnlimitedSegments)
       no_closed_form(scene, "a closed enclosure of albedo 1 has infinite radiance at unlimited depth");
-    for (const Object& o : scene.objects)
-      if (o.is_emitter() && !o.two_sided && !is_planar(o.shape))
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
+      const Object& o = scene.objects[i];
+      if (!o.is_emitter() || o.two_sided) continue;
+      if (!is_planar(o.shape))
         no_closed_form(scene, fmt::format("sphere '{}' emits outward only, not into the enclosure (set two_sided)",
                                           o.name));
+      // A one-sided planar emitter must be a wall: its front faces the
+      // interior (a ray from its centre along the normal meets the enclosure)
+      // and its back faces outside (the opposite ray meets nothing). An
+      // interior blocker that emits on one side only breaks the uniformity.
+      const Vec3 c = planar_center(o.shape);
+      const Vec3 n = shape_normal(o.shape, c);
+      const double offset = 1e-9 * std::fmax(1.0, max_abs_component(c));  // relative, against self-hits
+      const bool front_inside = intersect(scene, c + n * offset, n, 0).has_value();
+      const bool back_outside = !intersect(scene, c - n * offset, -n, 0).has_value();
+      if (!front_inside || !back_outside)
+        no_closed_form(scene, fmt::format("one-sided emitter '{}' is not a wall facing the interior (set two_sided "
+                                          "for interior blockers)",
+                                          o.name));
+    }
     return {Kind::kEnclosure, *albedo, *emission};
   }
   bool any_emitter = false;
