@@ -76,6 +76,7 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
       {"rectangle_light.json", direct, analytic::kUnlimitedSegments},
       {"environment_blocker.json", direct, analytic::kUnlimitedSegments},
       {"three_lights.json", everything, analytic::kUnlimitedSegments},
+      {"polygon_occluder.json", everything, analytic::kUnlimitedSegments},
       {"white_furnace.json", paths, analytic::kUnlimitedSegments},
       {"convex_furnace.json", paths, analytic::kUnlimitedSegments},
       {"enclosure_box.json", paths, analytic::kUnlimitedSegments},
