@@ -8,6 +8,7 @@
 #include "analytic/disk_light.h"
 #include "analytic/emitter.h"
 #include "analytic/light_moments.h"
+#include "analytic/planar_light.h"
 #include "analytic/environment.h"
 #include "analytic/reference.h"
 
@@ -73,15 +74,22 @@ double emitter_kernel(Estimator estimator, const Scene& scene, size_t i, const V
     const auto view = disk_light_view(scene, i, p, n, receiver, &reason);
     if (view) return hemisphere ? hemisphere_kernel(*view) : area_kernel(*view);
     if (reason.empty()) return 0.0;
-    unsupported_configuration(scene, reason + " (for a second moment)");
+    if (hemisphere) return planar_light_cos2_solid_angle(scene, i, p, n, receiver);  // exact planar path
+    unsupported_configuration(scene, reason + " (for the light-area second moment)");
   }
-  if (emitter_irradiance(scene, i, p, n, receiver) == 0) return 0.0;  // nothing of it reaches p
+  if (std::holds_alternative<Sphere>(object.shape)) {
+    if (emitter_irradiance(scene, i, p, n, receiver) == 0) return 0.0;  // nothing of it reaches p
+    require_unoccluded(scene, i, p, n, receiver);
+    const Sphere& sphere = std::get<Sphere>(object.shape);
+    return hemisphere ? sphere_cos2_solid_angle(sphere.center - p, sphere.radius, n)
+                      : sphere_area_kernel(sphere.center - p, sphere.radius, n);
+  }
+  // Rectangles and triangles: the exact planar path handles occluders and the
+  // horizon for the cos² kernel; the light-area kernel needs an unoccluded light.
+  if (hemisphere) return planar_light_cos2_solid_angle(scene, i, p, n, receiver);
+  if (emitter_irradiance(scene, i, p, n, receiver) == 0) return 0.0;
   require_unoccluded(scene, i, p, n, receiver);
-  if (const auto* s = std::get_if<Sphere>(&object.shape))
-    return hemisphere ? sphere_cos2_solid_angle(s->center - p, s->radius, n)
-                      : sphere_area_kernel(s->center - p, s->radius, n);
-  const std::vector<Vec3> vertices = polygon_vertices_relative(object.shape, p);
-  return hemisphere ? polygon_cos2_solid_angle(vertices, n) : polygon_area_kernel(vertices, n);
+  return polygon_area_kernel(polygon_vertices_relative(object.shape, p), n);
 }
 
 }  // namespace

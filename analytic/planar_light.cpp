@@ -1,6 +1,7 @@
 #include "analytic/planar_light.h"
 
 #include <cmath>
+#include <functional>
 #include <string>
 #include <variant>
 
@@ -108,8 +109,26 @@ double contour_irradiance(const Vec3& origin, const Vec3& e1, const Vec3& e2, co
   return 0.5 * std::fabs(sum);
 }
 
-double planar_light_irradiance(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
-                               std::optional<size_t> receiver) {
+namespace {
+
+// Everything the planar references need: the light plane's frame (origin at
+// p's foot), p's height above it, the light, occluder images and horizon
+// half-plane in 2-D. `visible` is false when nothing of the light reaches p.
+struct PlanarSetup {
+  bool visible = false;
+  const Disk* disk = nullptr;
+  std::vector<Vec3> light_vertices;
+  Vec3 front, foot;
+  Frame frame;
+  double h = 0;
+  Region2 light_region;
+  std::vector<Region2> occluders;
+  std::optional<HalfPlane2> keep;
+};
+
+PlanarSetup setup_planar(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
+                         std::optional<size_t> receiver) {
+  PlanarSetup out;
   const Object& light = scene.objects[light_index];
   const Disk* disk = std::get_if<Disk>(&light.shape);
   if (std::holds_alternative<Sphere>(light.shape))
@@ -122,9 +141,9 @@ double planar_light_irradiance(const Scene& scene, size_t light_index, const Vec
                     : normalize(cross(light_vertices[1] - light_vertices[0], light_vertices[2] - light_vertices[0]));
   double h = dot(p - on_light, front);
   if (h < 0 && light.two_sided) front = -front, h = -h;
-  if (!(h > 0)) return 0.0;
+  if (!(h > 0)) return out;
   const ZRange over_horizon = height_range(light.shape, p, n);
-  if (over_horizon.hi <= 0) return 0.0;
+  if (over_horizon.hi <= 0) return out;
 
   // 2-D frame of the light plane, origin at p's foot point.
   const Vec3 w = -front;
@@ -208,20 +227,87 @@ double planar_light_irradiance(const Scene& scene, size_t light_index, const Vec
                                          light.name + "'");
   }
 
-  if (occluders.empty() && !keep) {
+  out.visible = true;
+  out.disk = disk;
+  out.light_vertices = light_vertices;
+  out.front = front;
+  out.foot = foot;
+  out.frame = frame;
+  out.h = h;
+  out.light_region = light_region;
+  out.occluders = occluders;
+  out.keep = keep;
+  return out;
+}
+
+}  // namespace
+
+double planar_light_irradiance(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
+                               std::optional<size_t> receiver) {
+  const PlanarSetup setup = setup_planar(scene, light_index, p, n, receiver);
+  if (!setup.visible) return 0.0;
+  if (setup.occluders.empty() && !setup.keep) {
     // Closed forms: Lambert for polygons; Howell's disk when n is parallel to the light.
-    if (!disk) {
+    if (!setup.disk) {
       std::vector<Vec3> relative;
-      for (const Vec3& v : light_vertices) relative.push_back(v - p);
+      for (const Vec3& v : setup.light_vertices) relative.push_back(v - p);
       return polygon_irradiance(relative, n);
     }
-    if (length(cross(n, front)) <= kParallelSine) {
-      const Point2 c = to_2d(disk->center);
-      return disk_irradiance_parallel(disk->radius, h, std::hypot(c.x, c.y));
+    if (length(cross(n, setup.front)) <= kParallelSine) {
+      const Circle2& c = *setup.light_region.circle;
+      return disk_irradiance_parallel(c.radius, setup.h, std::hypot(c.cx, c.cy));
     }
   }
-  const std::vector<Curve2> boundary = exact_visible_boundary(light_region, occluders, keep);
-  return contour_irradiance(foot, frame.s, frame.t, boundary, p, n);
+  const std::vector<Curve2> boundary = exact_visible_boundary(setup.light_region, setup.occluders, setup.keep);
+  return contour_irradiance(setup.foot, setup.frame.s, setup.frame.t, boundary, p, n);
+}
+
+double planar_light_cos2_solid_angle(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
+                                     std::optional<size_t> receiver) {
+  using boost::math::quadrature::gauss_kronrod;
+  const PlanarSetup setup = setup_planar(scene, light_index, p, n, receiver);
+  if (!setup.visible) return 0.0;
+  const std::vector<Curve2> boundary = exact_visible_boundary(setup.light_region, setup.occluders, setup.keep);
+  const Vec3 &e1 = setup.frame.s, &e2 = setup.frame.t;
+  const double h = setup.h;
+  // Each boundary piece as x(t) (relative to p) and dx/dt, t ∈ [lo, hi], with its direction sign.
+  double sigma = 0, first = 0, second = 0;
+  for (const Curve2& c : boundary) {
+    std::function<Vec3(double)> x_of, dx_of;
+    std::function<Point2(double)> q_of, dq_of;  // plane coordinates and derivative
+    double lo = 0, hi = 1, sign = 1;
+    if (c.is_arc) {
+      const Circle2 k = c.circle;
+      q_of = [k](double t) { return Point2{k.cx + k.radius * std::cos(t), k.cy + k.radius * std::sin(t)}; };
+      dq_of = [k](double t) { return Point2{-k.radius * std::sin(t), k.radius * std::cos(t)}; };
+      lo = std::fmin(c.t0, c.t0 + c.sweep), hi = std::fmax(c.t0, c.t0 + c.sweep);
+      sign = c.sweep >= 0 ? 1 : -1;
+    } else {
+      const Point2 a = c.start, b = c.end;
+      q_of = [a, b](double t) { return Point2{a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t}; };
+      dq_of = [a, b](double) { return Point2{b.x - a.x, b.y - a.y}; };
+    }
+    auto x = [&](double t) { const Point2 q = q_of(t); return setup.foot + e1 * q.x + e2 * q.y - p; };
+    auto dx = [&](double t) { const Point2 d = dq_of(t); return e1 * d.x + e2 * d.y; };
+    // σ: Green's theorem about the foot point, G(s)/s² = 1/(r(r + h)), s²dφ = q × q'.
+    auto sigma_integrand = [&](double t) {
+      const Point2 q = q_of(t), d = dq_of(t);
+      const double r = std::hypot(h, std::hypot(q.x, q.y));
+      return (q.x * d.y - q.y * d.x) / (r * (r + h));
+    };
+    // First moment ½ n·(x × dx)/|x|² (its sign orients the boundary) and the
+    // second-moment boundary term (n·u)·n·(x × dx)/|x|².
+    auto first_integrand = [&](double t) { const Vec3 xt = x(t); return dot(n, cross(xt, dx(t))) / length_squared(xt); };
+    auto second_integrand = [&](double t) {
+      const Vec3 xt = x(t);
+      return dot(n, xt) / length(xt) * dot(n, cross(xt, dx(t))) / length_squared(xt);
+    };
+    sigma += sign * gauss_kronrod<double, 61>::integrate(sigma_integrand, lo, hi, 10, 1e-14);
+    first += sign * gauss_kronrod<double, 61>::integrate(first_integrand, lo, hi, 10, 1e-14);
+    second += sign * gauss_kronrod<double, 61>::integrate(second_integrand, lo, hi, 10, 1e-14);
+  }
+  const double s = first >= 0 ? 1.0 : -1.0;
+  return (std::fabs(sigma) + s * second) / 3;
 }
 
 }  // namespace furnace::analytic

@@ -41,4 +41,15 @@ double contour_irradiance(const Vec3& origin, const Vec3& e1, const Vec3& e2, co
 double planar_light_irradiance(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
                                std::optional<size_t> receiver);
 
+// ∫_visible max(cos θ, 0)² dω for the same configurations (the uniform-
+// hemisphere second-moment kernel), by Arvo's recurrence for a region bounded
+// by any closed curve on the sphere (the boundary term of the divergence
+// theorem with conormal ν ds = u × du):
+//   τ² = (σ + s·∮ (n·u)·n·(u × du))/3,  u × du = (x − p) × dx/|x − p|²,
+// σ = ∫ cos θ'/r² dA by Green's theorem about p's foot point (G(s)/s² =
+// 1/(r(r + h))), s the sign that makes the first moment ½∮ n·(u × du)
+// positive. Every piece by adaptive Gauss–Kronrod (61 points, 1e-14).
+double planar_light_cos2_solid_angle(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
+                                     std::optional<size_t> receiver);
+
 }  // namespace furnace::analytic

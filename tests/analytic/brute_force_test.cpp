@@ -11,6 +11,7 @@
 #include <boost/math/quadrature/tanh_sinh.hpp>
 #include <gtest/gtest.h>
 
+#include "analytic/moments.h"
 #include "analytic/reference.h"
 
 namespace furnace::analytic {
@@ -42,7 +43,7 @@ std::vector<Line2> shadow_lines(const Scene& scene, size_t light_index, const Ve
 }
 
 // Light disk in the plane z = h_light (facing down), receiver at p with normal n.
-double brute_force(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n) {
+double brute_force(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n, int cos_power = 1) {
   const Disk& light = std::get<Disk>(scene.objects[light_index].shape);
   const double le = scene.objects[light_index].emitted_radiance;
   const std::vector<Line2> lines = shadow_lines(scene, light_index, p, light.center.z);
@@ -54,7 +55,7 @@ double brute_force(const Scene& scene, size_t light_index, const Vec3& p, const 
   auto kernel = [&](double x, double y) {
     const Vec3 d = Vec3{x, y, light.center.z} - p;
     const double r2 = length_squared(d), r = std::sqrt(r2);
-    return std::fmax(dot(n, d), 0.0) / r * std::fabs(d.z) / r / r2;
+    return std::pow(std::fmax(dot(n, d), 0.0) / r, cos_power) * std::fabs(d.z) / r / r2;
   };
   const double cx = light.center.x, cy = light.center.y, R = light.radius;
   auto column = [&](double x) {
@@ -128,6 +129,11 @@ TEST_P(ExactPathBruteForce, MatchesRayCastAreaIntegral) {
   const double expected = brute_force(scene, 1, c.p, n);
   ASSERT_GT(expected, 0);
   EXPECT_LE(std::fabs(exact - expected) / expected, 1e-10) << exact << " vs " << expected;
+  // Uniform-hemisphere second moment: E[Y²] = 2π L² ∫_visible cos²θ dω.
+  const double moment = second_moment(Estimator::kUniformHemisphere, scene, c.p, n, size_t(0));
+  const double le = scene.objects[1].emitted_radiance;
+  const double expected_moment = 2 * kPi * le * brute_force(scene, 1, c.p, n, 2);  // brute_force includes one L
+  EXPECT_LE(std::fabs(moment - expected_moment) / expected_moment, 1e-10) << moment << " vs " << expected_moment;
 }
 
 INSTANTIATE_TEST_SUITE_P(Points, ExactPathBruteForce,
