@@ -8,6 +8,7 @@
 #include "analytic/occlusion.h"
 #include "analytic/planar_light.h"
 #include "analytic/sphere.h"
+#include "analytic/sphere_occluded.h"
 
 namespace furnace::analytic {
 
@@ -41,10 +42,9 @@ double emitter_irradiance(const Scene& scene, size_t emitter, const Vec3& p, con
       if (!light.two_sided) return 0.0;  // inside a one-sided (outward) emitter: nothing arrives
       unsupported_configuration(scene, "a receiving point inside the two-sided sphere light '" + light.name + "'");
     }
-    const double e = sphere_irradiance(sphere->center - p, sphere->radius, n);
-    if (e == 0) return 0.0;
-    require_unoccluded(scene, emitter, p, n, receiver);
-    return e;
+    // Snyder's closed form when nothing can block; quadrature over exact
+    // limits when every possible blocker is planar (sphere_occluded.h).
+    return sphere_light_irradiance(scene, emitter, p, n, receiver);
   }
   return planar_light_irradiance(scene, emitter, p, n, receiver);
 }

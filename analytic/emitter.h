@@ -13,7 +13,9 @@ namespace furnace::analytic {
 // object (`receiver` excluded). Disks: the circle fast path (disk_light.h),
 // else the exact planar path (planar_light.h); rectangles and triangles: the
 // exact planar path; spheres: Snyder's form (sphere.h) when nothing can
-// block them. Throws furnace::Error outside those configurations.
+// block them, else azimuthal quadrature over exactly computed visible
+// intervals (sphere_occluded.h) when every possible blocker is planar.
+// Throws furnace::Error outside those configurations.
 double emitter_irradiance(const Scene& scene, size_t emitter, const Vec3& p, const Vec3& n,
                           std::optional<size_t> receiver);
 

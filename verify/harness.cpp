@@ -73,6 +73,7 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
   const std::vector<Entry> entries = {
       {"disk_occluder.json", everything, analytic::kUnlimitedSegments},
       {"sphere_light.json", direct, analytic::kUnlimitedSegments},
+      {"sphere_occluder.json", direct, analytic::kUnlimitedSegments},
       {"rectangle_light.json", direct, analytic::kUnlimitedSegments},
       {"environment_blocker.json", direct, analytic::kUnlimitedSegments},
       {"three_lights.json", everything, analytic::kUnlimitedSegments},
