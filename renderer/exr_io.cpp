@@ -20,6 +20,16 @@
 namespace furnace {
 
 namespace {
+// OpenEXR's messages sometimes end with a period and sometimes not; the
+// error sentence must end with exactly one.
+std::string as_sentence_end(std::string text) {
+  while (!text.empty() && (text.back() == '.' || text.back() == ' ')) text.pop_back();
+  return text + ".";
+}
+}  // namespace
+
+
+namespace {
 
 constexpr const char* kMeanChannels[] = {"R", "G", "B"};
 constexpr const char* kVarianceChannels[] = {"variance.R", "variance.G", "variance.B"};
@@ -78,7 +88,7 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
   } catch (const std::exception& e) {
     std::error_code ignored;
     std::filesystem::remove(tmp, ignored);
-    throw Error(fmt::format("cannot write OpenEXR file '{}': {}.", path.string(), e.what()));
+    throw Error(fmt::format("cannot write OpenEXR file '{}': {}", path.string(), as_sentence_end(e.what())));
   }
 }
 
@@ -127,7 +137,7 @@ ExrImage read_exr(const std::filesystem::path& path) {
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {
-    throw Error(fmt::format("cannot read OpenEXR file '{}': {}.", path.string(), e.what()));
+    throw Error(fmt::format("cannot read OpenEXR file '{}': {}", path.string(), as_sentence_end(e.what())));
   }
 }
 
