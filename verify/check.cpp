@@ -137,11 +137,7 @@ CheckResult check_images(const Scene& scene, const std::vector<ForeignImage>& im
     r.detectable_relative_bias = image_test.detectable_relative_bias;
     r.pass = image_test.pass;
   }
-  if (!detectable.empty()) {
-    auto mid = detectable.begin() + detectable.size() / 2;
-    std::nth_element(detectable.begin(), mid, detectable.end());
-    r.median_pixel_detectable_relative_bias = *mid;
-  }
+  r.median_pixel_detectable_relative_bias = stats::median(std::move(detectable));
   r.pass = r.pass && r.pixel_failures == 0;
   return r;
 }

@@ -227,11 +227,7 @@ Verdict run_case(const Case& c, double per_case_alpha) {
   v.z = zt.statistic;
   v.threshold = zt.threshold;
   v.detectable_rel_bias = zt.detectable_relative_bias;
-  if (!pixel_detectable.empty()) {
-    auto mid = pixel_detectable.begin() + pixel_detectable.size() / 2;
-    std::nth_element(pixel_detectable.begin(), mid, pixel_detectable.end());
-    v.median_pixel_detectable_rel_bias = *mid;
-  }
+  v.median_pixel_detectable_rel_bias = stats::median(std::move(pixel_detectable));
   bool variance_pass = true;
   if (v.variance_tested) {
     const stats::ZTestResult vz = stats::z_test(sum_s2, sum_sigma2, std::sqrt(sum_var_s2), alpha_each);

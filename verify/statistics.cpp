@@ -255,13 +255,7 @@ MeanTestSummary mean_tests(const std::vector<SampleSummary>& summaries, const st
     if (references[i] != 0 && std::isfinite(t.detectable_relative_bias))
       detectable.push_back(t.detectable_relative_bias);
   }
-  if (!detectable.empty()) {
-    auto mid = detectable.begin() + detectable.size() / 2;
-    std::nth_element(detectable.begin(), mid, detectable.end());
-    out.median_detectable_relative_bias = *mid;
-  } else {
-    out.median_detectable_relative_bias = kInf;
-  }
+  out.median_detectable_relative_bias = detectable.empty() ? kInf : median(std::move(detectable));
   out.pass = out.failures == 0;
   return out;
 }
@@ -337,6 +331,13 @@ RejectionRate measure_rejection_rate(const std::function<bool(uint64_t seed)>& r
   r.ci_high = Binomial::find_upper_bound_on_p(double(trials), double(r.rejections), tail);
   r.binomial_p_value = binomial_two_sided_p_value(r.rejections, trials, expected_rate);
   return r;
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0;
+  const auto mid = values.begin() + values.size() / 2;
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
 }
 
 }  // namespace furnace::stats

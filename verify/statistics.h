@@ -161,6 +161,9 @@ bool clt_adequate(const MomentSums& m);
 // clt_adequate in the result (message notes a failed check).
 MeanTestResult mean_test(const MomentSums& m, double reference, double alpha, double power = kDefaultPower);
 
+// Median of the values (the upper median for an even count); 0 when empty.
+double median(std::vector<double> values);
+
 // ---------------------------------------------------------------------------
 // Many mean tests at once (e.g. every pixel), each at the Šidák level that
 // keeps the family-wise false-alarm probability at alpha_family.

@@ -1,35 +1,19 @@
-// Test helpers: deterministic samples and their running moments, written
-// independently of renderer/render.h so the statistics are tested against
-// their own accumulator.
+// Test helpers: deterministic samples and their running moments.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 
+#include "renderer/render.h"
 #include "renderer/rng.h"
 #include "verify/statistics.h"
 
 namespace furnace::stats::testing_support {
 
-// Welford / Terriberry running central moments (count, mean, m2, m4).
-struct Moments {
-  uint64_t count = 0;
-  double mean = 0, m2 = 0, m3 = 0, m4 = 0;
-
-  void add(double y) {
-    const double n1 = double(count);
-    ++count;
-    const double n = double(count);
-    const double delta = y - mean;
-    const double delta_n = delta / n;
-    const double delta_n2 = delta_n * delta_n;
-    const double term1 = delta * delta_n * n1;
-    mean += delta_n;
-    m4 += term1 * delta_n2 * (n * n - 3 * n + 3) + 6 * delta_n2 * m2 - 4 * delta_n * m3;
-    m3 += term1 * delta_n * (n - 2) - 3 * delta_n * m2;
-    m2 += term1;
-  }
-  double sample_variance() const { return count > 1 ? m2 / double(count - 1) : 0.0; }
+// The renderer's running central moments (Welford / Terriberry; their
+// agreement with two-pass moments is tested in tests/renderer), with the
+// summary the statistics take.
+struct Moments : PixelMoments {
   SampleSummary summary() const { return {count, mean, sample_variance()}; }
 };
 
