@@ -8,7 +8,7 @@ packages=(
   libembree-dev libtbb-dev
   libcgal-dev libgmp-dev libmpfr-dev
   libboost-dev libboost-math-dev
-  libopenexr-dev
+  libopenexr-dev libimath-dev
   libcli11-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libbenchmark-dev
 )
