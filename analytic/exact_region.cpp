@@ -34,16 +34,6 @@ void append_pieces(const Curve& curve, Polygon& polygon) {
     if (const XCurve* x = boost::get<XCurve>(&piece)) polygon.push_back(*x);
 }
 
-double signed_area(const std::vector<Point2>& v) {
-  double twice = 0;
-  for (size_t i = 0; i < v.size(); ++i) {
-    const Point2& a = v[i];
-    const Point2& b = v[(i + 1) % v.size()];
-    twice += a.x * b.y - a.y * b.x;
-  }
-  return 0.5 * twice;
-}
-
 // A counter-clockwise CGAL polygon for a region (circles are counter-clockwise
 // by default in Kernel::Circle_2).
 Polygon to_cgal(const Region2& region) {
@@ -152,6 +142,16 @@ std::vector<Curve2> exact_visible_boundary(const Region2& light, const std::vect
     for (auto hole = part.holes_begin(); hole != part.holes_end(); ++hole) append_boundary(*hole, boundary);
   }
   return boundary;
+}
+
+double signed_area(const std::vector<Point2>& v) {
+  double twice = 0;
+  for (size_t i = 0; i < v.size(); ++i) {
+    const Point2& a = v[i];
+    const Point2& b = v[(i + 1) % v.size()];
+    twice += a.x * b.y - a.y * b.x;
+  }
+  return 0.5 * twice;
 }
 
 }  // namespace furnace::analytic

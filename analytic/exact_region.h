@@ -21,6 +21,9 @@ struct Point2 {
   double x = 0, y = 0;
 };
 
+// Signed area of a simple polygon (shoelace): positive when counter-clockwise.
+double signed_area(const std::vector<Point2>& v);
+
 // A simple polygon (either winding) or, when `circle` is set, a disk.
 struct Region2 {
   std::vector<Point2> polygon;

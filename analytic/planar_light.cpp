@@ -59,16 +59,6 @@ std::vector<Vec3> clip_by_plane_through_p(const std::vector<Vec3>& v, const Vec3
 // Relative size below which a projected occluder counts as a sliver.
 constexpr double kSliverArea = 1e-12;
 
-double polygon_area_2d(const std::vector<Point2>& v) {
-  double twice = 0;
-  for (size_t i = 0; i < v.size(); ++i) {
-    const Point2& a = v[i];
-    const Point2& b = v[(i + 1) % v.size()];
-    twice += a.x * b.y - a.y * b.x;
-  }
-  return 0.5 * twice;
-}
-
 // Drops points within `tolerance` of their predecessor (cyclically).
 std::vector<Point2> without_repeats(const std::vector<Point2>& v, double tolerance) {
   std::vector<Point2> out;
@@ -219,7 +209,7 @@ PlanarSetup setup_planar(const Scene& scene, size_t light_index, const Vec3& p, 
       // kSliverArea of the light's bounding square; the light they could
       // hide is at most that fraction of its area.
       image.polygon = without_repeats(image.polygon, kSliverArea * light_extent);
-      if (image.polygon.size() < 3 || std::fabs(polygon_area_2d(image.polygon)) <= kSliverArea * light_square_area) continue;
+      if (image.polygon.size() < 3 || std::fabs(signed_area(image.polygon)) <= kSliverArea * light_square_area) continue;
       occluders.push_back(image);
       continue;
     }

@@ -131,6 +131,31 @@ Chi2Result histogram_and_test(const std::vector<Sample>& samples, const std::vec
   return r;
 }
 
+
+// Completes a chi-square result from its statistic: p-value, verdict, the
+// effect (Cohen's w) detectable with `power` for `effective_n` samples, and
+// the message, "<label> = X with D dof (P cells pooled), p = ...".
+void finish_chi2(Chi2Result& r, double chi2, double alpha, double power, double effective_n, const char* label) {
+  r.statistic = chi2;
+  const boost::math::chi_squared_distribution<double> dist(r.dof);
+  r.p_value = boost::math::cdf(boost::math::complement(dist, chi2));
+  r.pass = r.p_value >= alpha;
+  // Power: the non-centrality λ at which the statistic exceeds the critical
+  // value with probability `power`; w = √(λ/N).
+  const double critical = boost::math::quantile(boost::math::complement(dist, alpha));
+  try {
+    const double lambda = boost::math::non_central_chi_squared_distribution<double>::find_non_centrality(
+        double(r.dof), critical, 1 - power);
+    r.detectable_effect = effective_n > 0 ? std::sqrt(lambda / effective_n) : std::numeric_limits<double>::infinity();
+  } catch (const std::exception&) {
+    r.detectable_effect = std::numeric_limits<double>::quiet_NaN();  // reported, never used for the verdict
+  }
+  std::ostringstream s;
+  s << label << " = " << chi2 << " with " << r.dof << " dof (" << r.pooled_cells << " cells pooled), p = "
+    << r.p_value << (r.pass ? " >= " : " < ") << "alpha = " << alpha << ".";
+  r.message = s.str();
+}
+
 }  // namespace
 
 Chi2Result chi2_from_counts(const std::vector<double>& observed, const std::vector<double>& expected, double alpha,
@@ -189,25 +214,7 @@ Chi2Result chi2_from_counts(const std::vector<double>& observed, const std::vect
   }
   double chi2 = 0;
   for (const auto& [e, o] : bins) chi2 += (o - e) * (o - e) / e;
-  r.statistic = chi2;
-  const boost::math::chi_squared_distribution<double> dist(r.dof);
-  r.p_value = boost::math::cdf(boost::math::complement(dist, chi2));
-  r.pass = r.p_value >= alpha;
-
-  // Power: the non-centrality λ at which the statistic exceeds the critical
-  // value with probability `power`; w = √(λ/N).
-  const double critical = boost::math::quantile(boost::math::complement(dist, alpha));
-  try {
-    const double lambda = boost::math::non_central_chi_squared_distribution<double>::find_non_centrality(
-        double(r.dof), critical, 1 - power);
-    r.detectable_effect = n > 0 ? std::sqrt(lambda / n) : std::numeric_limits<double>::infinity();
-  } catch (const std::exception&) {
-    r.detectable_effect = std::numeric_limits<double>::quiet_NaN();  // reported, never used for the verdict
-  }
-  std::ostringstream s;
-  s << "chi2 = " << chi2 << " with " << r.dof << " dof (" << r.pooled_cells << " cells pooled), p = " << r.p_value
-    << (r.pass ? " >= " : " < ") << "alpha = " << alpha << ".";
-  r.message = s.str();
+  finish_chi2(r, chi2, alpha, power, n, "chi2");
   return r;
 }
 
@@ -328,22 +335,7 @@ Chi2Result chi2_two_sample(const std::vector<double>& counts_a, const std::vecto
     const double e_a = share_a * total, e_b = share_b * total;
     chi2 += (a - e_a) * (a - e_a) / e_a + (b - e_b) * (b - e_b) / e_b;
   }
-  r.statistic = chi2;
-  const boost::math::chi_squared_distribution<double> dist(r.dof);
-  r.p_value = boost::math::cdf(boost::math::complement(dist, chi2));
-  r.pass = r.p_value >= alpha;
-  const double critical = boost::math::quantile(boost::math::complement(dist, alpha));
-  try {
-    const double lambda = boost::math::non_central_chi_squared_distribution<double>::find_non_centrality(
-        double(r.dof), critical, 1 - power);
-    r.detectable_effect = std::sqrt(lambda / (n_a * n_b / (n_a + n_b)));
-  } catch (const std::exception&) {
-    r.detectable_effect = std::numeric_limits<double>::quiet_NaN();
-  }
-  std::ostringstream s;
-  s << "two-sample chi2 = " << chi2 << " with " << r.dof << " dof (" << r.pooled_cells << " cells pooled), p = "
-    << r.p_value << (r.pass ? " >= " : " < ") << "alpha = " << alpha << ".";
-  r.message = s.str();
+  finish_chi2(r, chi2, alpha, power, n_a * n_b / (n_a + n_b), "two-sample chi2");
   return r;
 }
 
