@@ -12,11 +12,12 @@ namespace furnace {
 
 namespace {
 
-// Origin offset, relative to the magnitude of the coordinates involved:
-// 2⁻¹⁸ is 32 float ulps, comfortably above Embree's single-precision
-// intersection error (a few ulps) and the double→float rounding of the origin
-// (half an ulp), and far below anything the statistical tests can resolve.
-constexpr double kSpawnOffsetRelative = 0x1.0p-18;
+// A point counts as lying on a surface when its distance to the exact plane
+// or sphere is at most this, relative to the magnitude of the coordinates
+// involved: 2⁻³⁶ ≈ 1.5e-11 is ~10⁵ double ulps (points refined onto a surface
+// or sampled on it are within a few), and far below any gap between two
+// distinct objects that the scenes or the statistical tests could resolve.
+constexpr double kOnSurfaceRelative = 0x1.0p-36;
 
 const char* error_name(RTCError code) {
   switch (code) {
@@ -149,6 +150,16 @@ void EmbreeDevice::on_error(void* user, RTCError code, const char* message) {
   record->message = message ? message : "";
 }
 
+// The double-precision ray behind an Embree query, handed to the filter
+// functions through the intersect context (Embree 3's documented extension:
+// the RTCIntersectContext comes first, the filter casts it back).
+struct EmbreeScene::RayQuery {
+  RTCIntersectContext context;
+  const EmbreeScene* scene = nullptr;
+  Vec3 origin, direction;
+  double t_max = 0;
+};
+
 EmbreeDevice::EmbreeDevice() : error_(std::make_unique<ErrorRecord>()) {
   // Default configuration: a device created with threads=1 would throttle TBB
   // for the whole process (TOOLCHAIN.md); render() uses tbb::global_control.
@@ -175,6 +186,8 @@ EmbreeScene::EmbreeScene(const EmbreeDevice& device, const Scene& scene) : devic
   rtcSetSceneFlags(rtc_scene_, RTC_SCENE_FLAG_ROBUST);
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     RTCGeometry geom = make_geometry(device.get(), scene.objects[i].shape);
+    rtcSetGeometryIntersectFilterFunction(geom, &EmbreeScene::filter);
+    rtcSetGeometryOccludedFilterFunction(geom, &EmbreeScene::filter);
     rtcCommitGeometry(geom);
     rtcAttachGeometryByID(rtc_scene_, geom, static_cast<unsigned>(i));  // geomID == object index
     rtcReleaseGeometry(geom);
@@ -196,8 +209,12 @@ EmbreeScene::~EmbreeScene() {
 }
 
 std::optional<SurfaceHit> EmbreeScene::intersect(const Vec3& origin, const Vec3& direction, double t_max) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
+  RayQuery query;
+  rtcInitIntersectContext(&query.context);
+  query.scene = this;
+  query.origin = origin;
+  query.direction = direction;
+  query.t_max = t_max;
   RTCRayHit rayhit;
   rayhit.ray = make_ray(origin, direction, t_max);
   rayhit.hit.Ng_x = rayhit.hit.Ng_y = rayhit.hit.Ng_z = 0.0f;
@@ -205,16 +222,20 @@ std::optional<SurfaceHit> EmbreeScene::intersect(const Vec3& origin, const Vec3&
   rayhit.hit.primID = RTC_INVALID_GEOMETRY_ID;
   rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rayhit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(rtc_scene_, &context, &rayhit);
+  rtcIntersect1(rtc_scene_, &query.context, &rayhit);
   if (rayhit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
   return refine(rayhit.hit.geomID, origin, direction, rayhit.ray.tfar);
 }
 
 bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, double t_max) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
+  RayQuery query;
+  rtcInitIntersectContext(&query.context);
+  query.scene = this;
+  query.origin = origin;
+  query.direction = direction;
+  query.t_max = t_max;
   RTCRay ray = make_ray(origin, direction, t_max);
-  rtcOccluded1(rtc_scene_, &context, &ray);
+  rtcOccluded1(rtc_scene_, &query.context, &ray);
   return ray.tfar == -std::numeric_limits<float>::infinity();
 }
 
@@ -250,13 +271,41 @@ SurfaceHit EmbreeScene::refine(size_t object, const Vec3& origin, const Vec3& di
   return hit;
 }
 
-double EmbreeScene::spawn_offset(size_t object, const Vec3& point) const {
-  return kSpawnOffsetRelative * (max_abs_component(point) + object_extent_[object]);
+double EmbreeScene::spawn_offset(size_t, const Vec3&) const { return 0.0; }
+
+Vec3 EmbreeScene::spawn_origin(size_t, const Vec3& point, const Vec3&, const Vec3&) const { return point; }
+
+bool EmbreeScene::on_surface(size_t object, const Vec3& x) const {
+  const double tolerance = kOnSurfaceRelative * (max_abs_component(x) + object_extent_[object]);
+  if (const auto& q = plane_point_[object]) return std::fabs(dot(x - *q, plane_normal_[object])) <= tolerance;
+  const Sphere& s = std::get<Sphere>(scene_.objects[object].shape);
+  return std::fabs(length(x - s.center) - s.radius) <= tolerance;
 }
 
-Vec3 EmbreeScene::spawn_origin(size_t object, const Vec3& point, const Vec3& normal, const Vec3& direction) const {
-  const Vec3 n_forward = dot(normal, direction) >= 0 ? normal : -normal;
-  return point + n_forward * spawn_offset(object, point);
+bool EmbreeScene::is_endpoint_surface(size_t object, const RayQuery& query, double t_candidate) const {
+  // A segment ending on a surface (a shadow ray to a light point) meets that
+  // surface only at its end: the sampled point faces the segment's origin, so
+  // it is the surface's first crossing (planes are crossed once; a sphere's
+  // near side is its first).
+  if (std::isfinite(query.t_max) && on_surface(object, query.origin + query.direction * query.t_max)) return true;
+  if (!on_surface(object, query.origin)) return false;
+  // A ray leaving a plane never meets it again, nor one leaving a sphere
+  // outwards; a ray entering a sphere meets it again only at the far end of
+  // its chord, at t = −2·(o − c)·d: reject what lies before the chord's middle.
+  if (plane_point_[object]) return true;
+  const Sphere& s = std::get<Sphere>(scene_.objects[object].shape);
+  const double half_chord = -dot(query.origin - s.center, query.direction);
+  return !(half_chord > 0 && t_candidate > half_chord);
+}
+
+void EmbreeScene::filter(const RTCFilterFunctionNArguments* args) {
+  const auto* query = reinterpret_cast<const RayQuery*>(args->context);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const unsigned object = RTCHitN_geomID(args->hit, args->N, i);
+    const double t = RTCRayN_tfar(args->ray, args->N, i);  // the candidate's distance
+    if (query->scene->is_endpoint_surface(object, *query, t)) args->valid[i] = 0;
+  }
 }
 
 }  // namespace furnace

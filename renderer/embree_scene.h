@@ -3,10 +3,13 @@
 // triangles; never tessellations). Geometry IDs equal object indices.
 //
 // Embree intersects in single precision; every hit is refined in double
-// precision against the exact shape (plane or sphere) before shading, and rays
-// leave a surface from an origin offset along the face-forwarded geometric
-// normal by an amount proportional to the coordinates' magnitude
-// (spawn_offset()), never by a global absolute epsilon.
+// precision against the exact shape (plane or sphere) before shading. Rays
+// leave a surface from the exact surface point, not from an offset origin:
+// intersection filter functions reject the surface a ray starts on (and the
+// one a shadow ray ends on) by an exact test in double precision, so no
+// epsilon scaled by the coordinates' magnitude moves the ray (an offset of
+// 32 float ulps of |p| biased scenes far from the origin by several percent:
+// tests/integration/stability_test.cpp).
 #pragma once
 
 #include <cstddef>
@@ -66,10 +69,10 @@ class EmbreeScene {
   // True if anything lies on the open segment origin + t·direction, t in (0, t_max).
   bool occluded(const Vec3& origin, const Vec3& direction, double t_max) const;
 
-  // Origin for a ray leaving `point` on `object` towards `direction`: pushed
-  // off the surface along the geometric normal, on the side `direction` goes.
+  // Origin for a ray leaving `point` on `object` towards `direction`: the
+  // point itself (the filter functions keep the ray off its own surface).
   Vec3 spawn_origin(size_t object, const Vec3& point, const Vec3& normal, const Vec3& direction) const;
-  // Distance by which spawn_origin moves the point (exposed for tests).
+  // Distance by which spawn_origin moves the point: 0 (exposed for tests).
   double spawn_offset(size_t object, const Vec3& point) const;
 
   const Scene& scene() const { return scene_; }
@@ -78,6 +81,12 @@ class EmbreeScene {
 
  private:
   SurfaceHit refine(size_t object, const Vec3& origin, const Vec3& direction, double t_float) const;
+  struct RayQuery;
+  // Whether a candidate hit at distance t_candidate on `object` is the
+  // surface the query's ray starts on (or, for a finite segment, ends on).
+  bool is_endpoint_surface(size_t object, const RayQuery& query, double t_candidate) const;
+  bool on_surface(size_t object, const Vec3& x) const;
+  static void filter(const RTCFilterFunctionNArguments* args);
 
   const EmbreeDevice& device_;
   const Scene& scene_;
