@@ -75,6 +75,15 @@ Classification classify(const Scene& scene, int max_segments) {
       reflecting_planar = reflecting_planar && is_planar(o.shape);
     }
   }
+  // Point lights: only the direct-only form covers them (its direct term,
+  // irradiance(), includes them). A closed enclosure with a point light is not
+  // uniform; a mirror would carry their light along delta–delta paths that no
+  // path tracer samples (a point light seen in a mirror, or its caustic).
+  if (!scene.point_lights.empty()) {
+    if (scene.closed) no_closed_form(scene, "a closed enclosure with point lights is not uniform");
+    for (const Object& o : scene.objects)
+      if (is_mirror(o)) no_closed_form(scene, fmt::format("mirror '{}' would reflect a point light", o.name));
+  }
   if (scene.closed) {
     if (scene.environment.radiance > 0) no_closed_form(scene, "it is closed but has an environment");
     if (!uniform || non_mirror == 0)
@@ -103,7 +112,7 @@ Classification classify(const Scene& scene, int max_segments) {
     }
     return {Kind::kEnclosure, *albedo, *emission};
   }
-  bool any_emitter = false;
+  bool any_emitter = !scene.point_lights.empty();
   for (const Object& o : scene.objects) any_emitter = any_emitter || o.is_emitter();
   if (scene.environment.radiance > 0 && !any_emitter) {
     if (!uniform) no_closed_form(scene, "a furnace needs one albedo on every object");

@@ -47,6 +47,7 @@ double convex_furnace_radiance(double environment_radiance, double albedo, int m
 //    cannot see itself), every other object black: light reaches the eye
 //    after at most one bounce, so the answer is the direct-lighting reference
 //    for max_segments ≥ 2 and the emission alone for max_segments = 1;
+//    the only form that accepts point lights (and then without mirrors);
 //  - perfect mirrors in front of any of the above: the camera ray is
 //    reflected (radiance scaled by the mirror's reflectance) until it meets
 //    a non-mirror surface or escapes.

@@ -92,13 +92,36 @@ double emitter_kernel(Estimator estimator, const Scene& scene, size_t i, const V
   return polygon_area_kernel(polygon_vertices_relative(object.shape, p), n);
 }
 
+// Point lights: a light-sampling estimator that picks point light l (pmf P_l)
+// returns E_l/P_l exactly, so it adds P_l·(E_l/P_l)² = E_l²/P_l to E[Y²].
+// `pmf` is light_selection_pmf (emitters first, then the point lights).
+// The hemisphere estimators never see a point light: refused.
+double point_lights_second_moment(Estimator estimator, const Scene& scene, const Vec3& p, const Vec3& n,
+                                  std::optional<size_t> receiver, const std::vector<double>& pmf) {
+  if (scene.point_lights.empty()) return 0.0;
+  if (estimator != Estimator::kLightArea)
+    unsupported_configuration(scene, "point lights, which a hemisphere estimator cannot sample,");
+  size_t first = 0;
+  for (const Object& o : scene.objects) first += o.is_emitter() ? 1 : 0;
+  double moment = 0;
+  for (size_t l = 0; l < scene.point_lights.size(); ++l) {
+    const double e = point_light_irradiance(scene, l, p, n, receiver);
+    moment += e * e / pmf[first + l];
+  }
+  return moment;
+}
+
 }  // namespace
 
 double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, const Vec3& n,
-                     std::optional<size_t> receiver) {
-  // Lights a light-sampling estimator picks among (uniformly).
-  size_t light_count = scene.environment.radiance > 0 ? 1 : 0;
-  for (const Object& o : scene.objects) light_count += o.is_emitter() ? 1 : 0;
+                     std::optional<size_t> receiver, LightSelection selection) {
+  // Selection pmf of every light (emitters, point lights, environment), and
+  // 1/pmf of the i-th emitter object in object order.
+  const std::vector<double> pmf = light_selection_pmf(scene, selection);
+  std::vector<double> inverse_pmf_of_object(scene.objects.size(), 0.0);
+  size_t light = 0;
+  for (size_t i = 0; i < scene.objects.size(); ++i)
+    if (scene.objects[i].is_emitter()) inverse_pmf_of_object[i] = 1.0 / pmf[light++];
 
   double moment = 0;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
@@ -113,10 +136,11 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
         moment += kPi * le * le * emitter_irradiance(scene, i, p, n, receiver);
         break;
       case Estimator::kLightArea:
-        moment += double(light_count) * shape_area(object.shape) * le * le * emitter_kernel(estimator, scene, i, p, n, receiver);
+        moment += inverse_pmf_of_object[i] * shape_area(object.shape) * le * le * emitter_kernel(estimator, scene, i, p, n, receiver);
         break;
     }
   }
+  moment += point_lights_second_moment(estimator, scene, p, n, receiver, pmf);
   const double e_env = environment_irradiance(scene, p, n, receiver);
   if (e_env > 0) {
     const double l_env = scene.environment.radiance;
@@ -131,15 +155,15 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
       case Estimator::kCosineHemisphere:
         moment += kPi * l_env * e_env;
         break;
-      case Estimator::kLightArea:  // the environment is sampled cosine-weighted, chosen with pmf 1/K
-        moment += double(light_count) * kPi * l_env * e_env;
+      case Estimator::kLightArea:  // the environment is sampled cosine-weighted, chosen with pmf P_env (last)
+        moment += kPi * l_env * e_env / pmf.back();
         break;
     }
   }
   return moment;
 }
 
-double pixel_center_second_moment(Estimator estimator, const Scene& scene, int px, int py) {
+double pixel_center_second_moment(Estimator estimator, const Scene& scene, int px, int py, LightSelection selection) {
   const Camera::Ray ray = scene.camera.pixel_center_ray(px, py);
   const std::optional<Hit> hit = intersect(scene, ray.origin, ray.direction);
   if (!hit) return scene.environment.radiance * scene.environment.radiance;
@@ -152,7 +176,7 @@ double pixel_center_second_moment(Estimator estimator, const Scene& scene, int p
   const Vec3 n = cos_view < 0 ? hit->normal : -hit->normal;
   const double k = object.material.albedo * kInvPi;
   const double e = irradiance(scene, hit->point, n, hit->object_index);
-  return le * le + 2 * le * k * e + k * k * second_moment(estimator, scene, hit->point, n, hit->object_index);
+  return le * le + 2 * le * k * e + k * k * second_moment(estimator, scene, hit->point, n, hit->object_index, selection);
 }
 
 }  // namespace furnace::analytic

@@ -14,6 +14,7 @@
 
 #include <optional>
 
+#include "analytic/point_light.h"
 #include "core/scene.h"
 
 namespace furnace::analytic {
@@ -50,13 +51,19 @@ enum class Estimator {
 // moment grows like A·L²/(h²) as p approaches the emitter plane (h → 0) and is
 // infinite for a light that touches the receiver (r → 0 on the visible
 // region); the hemisphere moments are bounded by 2π²L²/3 and π²L².
+// Light selection (light-sampling estimators only): with light l chosen with
+// pmf P_l (light_selection_pmf, point_light.h) and M_l the second moment of
+// light l's own estimator at pmf 1, E[Y²] = Σ_l M_l/P_l (uniform: P_l = 1/K).
+// A point light's estimator at pmf 1 is exact, Y_l = E_l, so M_l = E_l².
+// Point lights are invisible to the hemisphere estimators: refused for them.
 double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, const Vec3& n,
-                     std::optional<size_t> receiver);
+                     std::optional<size_t> receiver, LightSelection selection = LightSelection::kUniform);
 
 // Second moment of the pixel estimator the renderer averages at the centre of
 // pixel (px, py): Y_px = Le + (ρ/π)·Y at a Lambertian hit, so
 //   E[Y_px²] = Le² + 2·Le·(ρ/π)·E + (ρ/π)²·E[Y²];
 // a miss sees the environment: E[Y_px²] = L_env² (zero variance).
-double pixel_center_second_moment(Estimator estimator, const Scene& scene, int px, int py);
+double pixel_center_second_moment(Estimator estimator, const Scene& scene, int px, int py,
+                                  LightSelection selection = LightSelection::kUniform);
 
 }  // namespace furnace::analytic

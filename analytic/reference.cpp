@@ -10,6 +10,7 @@
 #include "analytic/emitter.h"
 #include "analytic/environment.h"
 #include "analytic/intersect.h"
+#include "analytic/point_light.h"
 #include "core/error.h"
 
 namespace furnace::analytic {
@@ -32,6 +33,7 @@ double irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optiona
     if (!object.is_emitter() || (receiver && i == *receiver)) continue;
     e += object.emitted_radiance * emitter_irradiance(scene, i, p, n, receiver);
   }
+  e += point_lights_irradiance(scene, p, n, receiver);
   return e + environment_irradiance(scene, p, n, receiver);
 }
 

@@ -35,7 +35,8 @@ std::optional<Hit> intersect(const Scene& scene, const Vec3& origin, const Vec3&
 //    clipped) behind parallel disks and planar polygons strictly between:
 //    exact CGAL Booleans + contour integral (Lambert edges, quadrature arcs);
 //  - unoccluded sphere lights (Snyder, horizon straddle included);
-//  - a constant environment minus non-overlapping blockers.
+//  - a constant environment minus non-overlapping blockers;
+//  - point lights: I·max(cos θ, 0)/r² past an exact segment test (point_light.h).
 double irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optional<size_t> receiver);
 
 // Radiance the camera sees through the centre of pixel (px, py) for direct

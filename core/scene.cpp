@@ -209,6 +209,20 @@ Scene parse_scene(const std::string& json_text, const std::string& source) {
     obj.two_sided = o.boolean_or("two_sided", false);
     scene.objects.push_back(std::move(obj));
   }
+  if (top.has("point_lights")) {
+    const json& lights = top.require("point_lights");
+    if (!lights.is_array()) top.fail("point_lights", fmt::format("must be an array, got {}", lights.dump()));
+    for (size_t i = 0; i < lights.size(); ++i) {
+      const std::string path = fmt::format("point_lights[{}]", i);
+      if (!lights[i].is_object()) top.fail(path, fmt::format("must be an object, got {}", lights[i].dump()));
+      const Reader l(lights[i], source, path);
+      PointLight light;
+      light.name = l.has("name") ? l.string("name") : path;
+      light.position = l.vec3("position");
+      light.intensity = l.positive("intensity");
+      scene.point_lights.push_back(std::move(light));
+    }
+  }
   return scene;
 }
 

@@ -71,6 +71,15 @@ struct Environment {
   double radiance = 0;
 };
 
+// An isotropic point light (a delta light: no ray can hit it): radiant
+// intensity I in W·sr⁻¹ in every direction, so a point at distance r
+// receives irradiance I·max(cos θ, 0)/r² when the segment to it is clear.
+struct PointLight {
+  std::string name;
+  Vec3 position;
+  double intensity = 0;
+};
+
 // Orthographic camera: one ray per pixel centre, all parallel to `forward`,
 // starting on the image plane through `center`. Pixel (0,0) is the top-left:
 // x grows along right = cross(forward, up), y grows along -up.
@@ -92,6 +101,7 @@ struct Scene {
   Camera camera;
   std::vector<Object> objects;
   Environment environment;
+  std::vector<PointLight> point_lights;
   // The author's statement that the objects bound a closed enclosure around
   // the camera (no ray from inside escapes). Needed by the uniform-enclosure
   // closed form Le/(1−ρ), which cannot check closure itself.

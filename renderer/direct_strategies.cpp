@@ -111,14 +111,43 @@ double DirectLighting::estimate_mis(const ShadingContext& ctx, Rng& rng, TraceCo
       estimate += w * s->weight * le;
     }
   }
-  // One light sample, weighted against the BSDF's density (0 for a delta BSDF, whose eval is 0 anyway).
+  // One light sample, weighted against the BSDF's density (0 for a delta BSDF, whose eval is 0 anyway);
+  // a point-light sample only against nothing (weight 1): BSDF sampling never finds it.
   if (const auto s = light_.sample(ctx, next_uniform3(rng)); s && s->weight != 0) {
     if (light_visible(scene_, *s, counters)) {
-      const double w = mis_weights({bsdf.pdf(ctx, s->wi_world), s->pdf_solid_angle}, beta, defect_).w_light;
+      const double p_bsdf = bsdf.pdf(ctx, s->wi_world);
+      const double w = s->delta ? delta_light_mis_weight(*s, p_bsdf, defect_)
+                                : mis_weights({p_bsdf, s->pdf_solid_angle}, beta, defect_).w_light;
       estimate += w * s->weight * s->radiance;
     }
   }
   return estimate;
+}
+
+double DirectLighting::estimate_one_sample(const ShadingContext& ctx, Rng& rng, TraceCounters& counters) const {
+  const BsdfStrategy bsdf{defect_};
+  // DEFECT(one_sample_no_selection_prob): the densities are summed without c and 1 − c.
+  const bool forget = defect_ == Defect::kOneSampleNoSelectionProb;
+  const double c = forget ? 1.0 : kOneSampleBsdfProbability;
+  const double c_light = forget ? 1.0 : 1.0 - kOneSampleBsdfProbability;
+  if (rng.next_double() < kOneSampleBsdfProbability) {
+    const auto s = bsdf.sample(ctx, next_uniform3(rng));
+    if (!s || s->weight == 0) return 0.0;
+    const auto hit = trace_from(scene_, ctx, s->wi_world, counters);
+    const double le = emitted_radiance_towards(scene_.scene(), hit);
+    if (!(le > 0)) return 0.0;
+    // A delta lobe: only this strategy covers it, chosen with probability c.
+    if (s->delta) return s->weight * le / c;
+    // weight·p_bsdf = f·cos θ: the estimate f·cos θ·Le/(c·p_bsdf + (1 − c)·p_light).
+    const double p_light = light_.pdf(ctx, s->wi_world, hit);
+    return s->weight * s->pdf_solid_angle * le / (c * s->pdf_solid_angle + c_light * p_light);
+  }
+  const auto s = light_.sample(ctx, next_uniform3(rng));
+  if (!s || s->weight == 0 || !light_visible(scene_, *s, counters)) return 0.0;
+  // A point light: only this strategy covers it, chosen with probability 1 − c.
+  if (s->delta) return s->weight * s->radiance / c_light;
+  const double p_bsdf = bsdf.pdf(ctx, s->wi_world);
+  return s->weight * s->pdf_solid_angle * s->radiance / (c * p_bsdf + c_light * s->pdf_solid_angle);
 }
 
 double DirectLighting::estimate(const ShadingContext& ctx, Rng& rng, TraceCounters& counters) const {
@@ -131,6 +160,7 @@ double DirectLighting::estimate(const ShadingContext& ctx, Rng& rng, TraceCounte
     case Strategy::kLightSolidAngle: return estimate_light(ctx, rng, counters);
     case Strategy::kMisBalance: return estimate_mis(ctx, rng, counters, 1);
     case Strategy::kMisPower: return estimate_mis(ctx, rng, counters, 2);
+    case Strategy::kMisOneSample: return estimate_one_sample(ctx, rng, counters);
     case Strategy::kPathNaive:
     case Strategy::kPathMis: break;
   }

@@ -61,6 +61,10 @@ struct MisWeights {
 };
 MisWeights mis_weights(const MisPdfs& pdfs, int beta, Defect defect);
 
+// mis_one_sample's probability c of taking the BSDF sample (else the light
+// sample): 1/2, the choice that needs no knowledge of the scene.
+inline constexpr double kOneSampleBsdfProbability = 0.5;
+
 // The single-sample estimate of ∫ f·Li·cos θi dωi at ctx by `strategy`
 // (one of the direct-lighting strategies).
 class DirectLighting {
@@ -77,6 +81,12 @@ class DirectLighting {
                             TraceCounters& counters) const;
   double estimate_light(const ShadingContext& ctx, Rng& rng, TraceCounters& counters) const;
   double estimate_mis(const ShadingContext& ctx, Rng& rng, TraceCounters& counters, int beta) const;
+  // mis_one_sample: Veach's one-sample model (1997, §9.2.4) with the balance
+  // heuristic. Strategy i ∈ {bsdf, light} is chosen with probability c_i and
+  // its sample X gives f(X)·Li(X)·cos θ / Σ_j c_j·p_j(X); a delta sample (a
+  // mirror lobe, a point light) is covered by its own strategy only and gives
+  // weight·Li/c_i. DEFECT(one_sample_no_selection_prob) drops the c_j.
+  double estimate_one_sample(const ShadingContext& ctx, Rng& rng, TraceCounters& counters) const;
 
   const EmbreeScene& scene_;
   const LightSet& lights_;

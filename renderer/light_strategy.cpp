@@ -129,10 +129,33 @@ std::optional<EmitterPoint> sample_emitter_point(const EmitterMethod& method, co
 std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, const Uniform3& u) const {
   if (lights->count() == 0) return std::nullopt;
   const size_t light = lights->select(u[0]);
-  const double pmf = lights->selection_pmf();
   LightSample s;
+  s.selection_pmf = lights->pmf(light);
+  const double pmf = s.selection_pmf;
+  if (!(pmf > 0)) return std::nullopt;  // a light of zero power is never chosen
+  // DEFECT(power_selection_uniform_pmf): chosen by power, divided by the uniform pmf 1/K.
+  const double pmf_in_weight = defect == Defect::kPowerSelectionUniformPmf ? 1.0 / double(lights->count()) : pmf;
   double pdf_for_weight = 0;
-  if (light == lights->emitters.size()) {
+  if (lights->is_point_light(light)) {
+    // A delta in position: the one direction to the light, Li = I/r².
+    const PointLight& point = scene->scene().point_lights[lights->point_lights[light - lights->emitters.size()]];
+    const Vec3 to_light = point.position - ctx.point;
+    const double distance_squared = length_squared(to_light);
+    if (!(distance_squared > 0)) return std::nullopt;
+    s.wi_world = to_light / std::sqrt(distance_squared);
+    s.delta = true;
+    s.radiance = point.intensity / distance_squared;
+    s.shadow_origin = scene->spawn_origin(ctx.object, ctx.point, ctx.normal, s.wi_world);
+    const Vec3 segment = point.position - s.shadow_origin;
+    s.shadow_t_max = length(segment);
+    if (!(s.shadow_t_max > 0)) return std::nullopt;
+    s.shadow_direction = segment / s.shadow_t_max;
+    const Vec3 wi_local = ctx.frame.local_from_world(s.wi_world);
+    s.weight = ctx.bsdf.eval(ctx.wo_local, wi_local) * std::fmax(wi_local.z, 0.0) / pmf_in_weight;
+    s.assume_visible = defect == Defect::kSkipShadowRay;  // DEFECT(skip_shadow_ray)
+    return s;
+  }
+  if (lights->is_environment(light)) {
     // The environment: cosine-weighted directions (its exact density for a constant sky).
     const Vec3 wi_local = sample_cosine_hemisphere(u[1], u[2]);
     s.wi_world = ctx.frame.world_from_local(wi_local);
@@ -141,7 +164,7 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     s.shadow_origin = scene->spawn_origin(ctx.object, ctx.point, ctx.normal, s.wi_world);
     s.shadow_direction = s.wi_world;
     s.shadow_t_max = std::numeric_limits<double>::infinity();
-    pdf_for_weight = s.pdf_solid_angle;
+    pdf_for_weight = pmf_in_weight * cosine_hemisphere_pdf(wi_local);
   } else {
     const size_t object = lights->emitters[light];
     const Object& emitter = scene->scene().objects[object];
@@ -155,13 +178,14 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     const double distance_squared = length_squared(to_light);
     if (!(distance_squared > 0)) return std::nullopt;
     s.wi_world = q->direction ? *q->direction : to_light / std::sqrt(distance_squared);
-    s.pdf_solid_angle = pmf * emitter_pdf_solid_angle(method, emitter, ctx.point, s.wi_world, q->point, q->normal);
+    const double emitter_pdf = emitter_pdf_solid_angle(method, emitter, ctx.point, s.wi_world, q->point, q->normal);
+    s.pdf_solid_angle = pmf * emitter_pdf;
     s.radiance = emitter.emitted_radiance;
-    pdf_for_weight = s.pdf_solid_angle;
+    pdf_for_weight = pmf_in_weight * emitter_pdf;
     // DEFECT(drop_light_cosine): area sampling converts to solid angle with r² only, forgetting 1/cos θ'.
     if (defect == Defect::kDropLightCosine && std::holds_alternative<std::monostate>(method) &&
         light_cosine(q->normal, s.wi_world, emitter.two_sided) > 0)
-      pdf_for_weight = pmf * solid_angle_pdf_from_area(shape_area_pdf(emitter.shape), distance_squared, 1.0);
+      pdf_for_weight = pmf_in_weight * solid_angle_pdf_from_area(shape_area_pdf(emitter.shape), distance_squared, 1.0);
     // Shadow ray between the two offset surface points, so neither end hits its own surface.
     s.shadow_origin = scene->spawn_origin(ctx.object, ctx.point, ctx.normal, s.wi_world);
     const Vec3 target = scene->spawn_origin(object, q->point, q->normal, -s.wi_world);
@@ -179,14 +203,23 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
 
 double LightStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_world, const std::optional<SurfaceHit>& hit) const {
   if (lights->count() == 0) return 0.0;
-  const double pmf = lights->selection_pmf();
-  if (!hit) return lights->environment ? pmf * cosine_hemisphere_pdf(ctx.frame.local_from_world(wi_world)) : 0.0;
+  // Point lights are never found by a ray: only emitters and the environment have a density here.
+  if (!hit)
+    return lights->environment ? lights->pmf(lights->count() - 1) * cosine_hemisphere_pdf(ctx.frame.local_from_world(wi_world))
+                               : 0.0;
+  const double pmf = lights->pmf(lights->light_of_object(hit->object));
   const Object& o = scene->scene().objects[hit->object];
   if (!o.is_emitter() || !(hit->front_facing || o.two_sided)) return 0.0;
   const bool self = hit->object == ctx.object;
   if (self && !std::holds_alternative<Sphere>(o.shape)) return 0.0;  // as in sample()
   const EmitterMethod method = emitter_method(o, ctx.point, emitter_sampling, self);
   return pmf * emitter_pdf_solid_angle(method, o, ctx.point, wi_world, hit->point, hit->normal);
+}
+
+double delta_light_mis_weight(const LightSample& s, double p_bsdf, Defect defect) {
+  // DEFECT(point_light_mis_weighted): the delta sample weighed as if its density were its pmf.
+  if (defect == Defect::kPointLightMisWeighted) return s.selection_pmf / (s.selection_pmf + p_bsdf);
+  return 1.0;
 }
 
 bool light_visible(const EmbreeScene& scene, const LightSample& s, TraceCounters& counters) {

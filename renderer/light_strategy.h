@@ -1,13 +1,14 @@
-// Light sampling: choose a light uniformly (every emitter, and the
-// environment when it shines), then sample a direction towards it, by area
+// Light sampling: choose a light by the LightSet pmf (every emitter, every
+// point light, and the environment when it shines), then sample a direction towards it, by area
 // (a point uniform on the emitter) or by solid angle where an exact map exists
 // (cone for spheres, Arvo 1995 for triangles, Ureña et al. 2013 for
 // rectangles; disks and parallelograms fall back to area sampling). sample()
 // and pdf() compute the density through one helper; samples follow the return
 // convention of estimator.h (weight = f·cos θi/pdf).
 //
-// NEGATIVE CONTROLS: DEFECT(drop_light_cosine), DEFECT(skip_shadow_ray) and
-// DEFECT(pdf_off_by_constant) are implemented here at lines so marked.
+// NEGATIVE CONTROLS: DEFECT(drop_light_cosine), DEFECT(skip_shadow_ray),
+// DEFECT(pdf_off_by_constant), DEFECT(power_selection_uniform_pmf) and
+// DEFECT(point_light_mis_weighted) are implemented here at lines so marked.
 #pragma once
 
 #include <optional>
@@ -21,9 +22,11 @@ namespace furnace {
 // light emits along it, and the shadow ray that decides visibility.
 struct LightSample {
   Vec3 wi_world;
-  double pdf_solid_angle = 0;  // true density of the strategy (selection pmf included)
-  double weight = 0;           // f·cos θi / pdf
-  double radiance = 0;         // Le of the light towards the shading point
+  double pdf_solid_angle = 0;  // true density of the strategy (selection pmf included); 0 for delta
+  double weight = 0;           // f·cos θi / pdf; for a delta (point) light f·cos θi / pmf
+  double radiance = 0;         // Le of the light towards the shading point; I/r² for a point light
+  bool delta = false;          // a point light: a delta in position, which no other strategy can sample
+  double selection_pmf = 0;    // probability of choosing this sample's light
   Vec3 shadow_origin;
   Vec3 shadow_direction;       // unit
   double shadow_t_max = 0;     // +inf for the environment
@@ -36,8 +39,10 @@ enum class EmitterSampling {
   kSolidAngle,  // uniform in the solid angle the emitter subtends where an exact map exists
 };
 
-// Choose a light uniformly among LightSet, then sample it: an emitter by
-// EmitterSampling, the environment by cosine-weighted directions.
+// Choose a light among LightSet by its pmf, then sample it: an emitter by
+// EmitterSampling, the environment by cosine-weighted directions, a point
+// light by the direction to it (a delta sample: pdf 0, weight f·cos θi/pmf,
+// radiance I/r²). pdf() never gives a point light a density: no ray hits one.
 struct LightStrategy {
   const EmbreeScene* scene = nullptr;
   const LightSet* lights = nullptr;
@@ -49,6 +54,12 @@ struct LightStrategy {
   // (empty: it escaped). Used by MIS for directions drawn by another strategy.
   double pdf(const ShadingContext& ctx, const Vec3& wi_world, const std::optional<SurfaceHit>& hit) const;
 };
+
+// The MIS weight of a delta (point-light) light sample against BSDF sampling:
+// 1, since no BSDF sample can find a point light (the light sample is the only
+// strategy that covers it). DEFECT(point_light_mis_weighted) weighs it like an
+// area sample instead, pmf/(pmf + p_bsdf), as if its density were its pmf.
+double delta_light_mis_weight(const LightSample& s, double p_bsdf, Defect defect);
 
 // Whether a light sample's light is visible (always true under DEFECT(skip_shadow_ray)).
 bool light_visible(const EmbreeScene& scene, const LightSample& s, TraceCounters& counters);

@@ -1,6 +1,7 @@
 #include "renderer/lights.h"
 
 #include <algorithm>
+#include <limits>
 
 #include "renderer/sampling.h"
 
@@ -31,15 +32,79 @@ AreaSample sample_shape_area(const Shape& shape, double u1, double u2) {
 
 double shape_area_pdf(const Shape& shape) { return 1.0 / shape_area(shape); }
 
-LightSet::LightSet(const Scene& scene) {
+namespace {
+
+// Axis-aligned box of a shape (spheres by their centre ± r).
+void grow_box(const Shape& shape, Vec3& lo, Vec3& hi) {
+  auto add = [&](const Vec3& p) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  };
+  if (const auto* r = std::get_if<Rectangle>(&shape)) {
+    for (const Vec3& p : {r->corner, r->corner + r->edge_u, r->corner + r->edge_v, r->corner + r->edge_u + r->edge_v})
+      add(p);
+  } else if (const auto* d = std::get_if<Disk>(&shape)) {
+    add(d->center - Vec3(d->radius, d->radius, d->radius));  // the disk's ball bounds it
+    add(d->center + Vec3(d->radius, d->radius, d->radius));
+  } else if (const auto* s = std::get_if<Sphere>(&shape)) {
+    add(s->center - Vec3(s->radius, s->radius, s->radius));
+    add(s->center + Vec3(s->radius, s->radius, s->radius));
+  } else {
+    const auto& t = std::get<Triangle>(shape);
+    for (const Vec3& p : {t.p0, t.p1, t.p2}) add(p);
+  }
+}
+
+// Radius of the scene's bounding sphere: half the diagonal of the box of
+// every shape and point light (0 for an empty scene).
+double scene_bounding_radius(const Scene& scene) {
+  const double inf = std::numeric_limits<double>::infinity();
+  Vec3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
+  for (const Object& o : scene.objects) grow_box(o.shape, lo, hi);
+  for (const PointLight& l : scene.point_lights) grow_box(Sphere{l.position, 0.0}, lo, hi);
+  return lo.x <= hi.x ? 0.5 * length(hi - lo) : 0.0;
+}
+
+}  // namespace
+
+LightSet::LightSet(const Scene& scene, LightSelection selection_) : selection(selection_) {
   for (size_t i = 0; i < scene.objects.size(); ++i)
     if (scene.objects[i].is_emitter()) emitters.push_back(i);
+  for (size_t i = 0; i < scene.point_lights.size(); ++i) point_lights.push_back(i);
   environment = scene.environment.radiance > 0;
+
+  // Emitted powers (lights.h states the conventions).
+  for (size_t i : emitters) {
+    const Object& o = scene.objects[i];
+    power_.push_back((o.two_sided ? 2 : 1) * kPi * o.emitted_radiance * shape_area(o.shape));
+  }
+  for (size_t i : point_lights) power_.push_back(4 * kPi * scene.point_lights[i].intensity);
+  if (environment) {
+    const double r = scene_bounding_radius(scene);
+    power_.push_back(kPi * scene.environment.radiance * kPi * r * r);
+  }
+  if (count() == 0) return;
+  double total = 0;
+  for (double p : power_) total += p;
+  const bool by_power = selection == LightSelection::kPower && total > 0;
+  for (double p : power_) pmf_.push_back(by_power ? p / total : 1.0 / double(count()));
+  double running = 0;
+  for (double p : pmf_) cdf_.push_back(running += p);
+  cdf_.back() = 1.0;  // exact, so that every u < 1 selects a light
+}
+
+size_t LightSet::light_of_object(size_t object) const {
+  const auto it = std::lower_bound(emitters.begin(), emitters.end(), object);
+  return it != emitters.end() && *it == object ? size_t(it - emitters.begin()) : count();
 }
 
 size_t LightSet::select(double u) const {
-  // min(): u·count can round up to count for u just below 1.
-  return std::min(size_t(u * double(count())), count() - 1);
+  // Uniform: the direct formula (bit-identical to the uniform selection of
+  // earlier versions); min(): u·count can round up to count for u just below 1.
+  if (selection == LightSelection::kUniform) return std::min(size_t(u * double(count())), count() - 1);
+  // Power: the first light whose CDF exceeds u (lights of pmf 0 are never chosen).
+  const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
+  return std::min(size_t(it - cdf_.begin()), count() - 1);
 }
 
 }  // namespace furnace

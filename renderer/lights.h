@@ -1,6 +1,6 @@
-// Light sources: the scene's emitters (one-sided, Lambertian) plus the
-// constant environment when its radiance is positive, and the sampling of
-// points on their shapes.
+// Light sources: the scene's emitters (one-sided, Lambertian), its point
+// lights, and the constant environment when its radiance is positive; the
+// selection pmf among them and the sampling of points on their shapes.
 #pragma once
 
 #include <cstddef>
@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/scene.h"
+#include "renderer/render.h"
 
 namespace furnace {
 
@@ -34,18 +35,46 @@ inline double solid_angle_pdf_from_area(double pdf_area, double distance_squared
   return cos_theta_light > 0 ? pdf_area * distance_squared / cos_theta_light : 0.0;
 }
 
-// The lights a light-sampling strategy chooses among, uniformly: every
-// emitter, then the environment (if its radiance is positive).
+// The lights a light-sampling strategy chooses among: every emitter (object
+// order), then every point light (scene order), then the environment (if its
+// radiance is positive). Light index i < emitters.size() is an emitter, the
+// next point_lights.size() indices are point lights, the last the environment.
+//
+// Selection pmf: uniform 1/K, or proportional to the emitted power Φ
+// (LightSelection::kPower):
+//   one-sided Lambertian emitter  Φ = π·Le·A  (a sphere's outside: A = 4πr²),
+//   two-sided emitter             Φ = 2π·Le·A,
+//   isotropic point light         Φ = 4π·I,
+//   constant environment          Φ = π·L·(π R²), R the radius of the scene's
+//     bounding sphere (the centre and half-diagonal of the axis-aligned box of
+//     every shape and point light): the power a sky of radiance L sends
+//     through a disk of radius R. A convention only: any positive value is
+//     unbiased because sample() and pdf() use the same pmf.
+// A light of zero power (never: emitters have Le > 0, point lights I > 0)
+// would get pmf 0. select() inverts the CDF; sample() and pdf() read pmf().
 struct LightSet {
-  explicit LightSet(const Scene& scene);
+  explicit LightSet(const Scene& scene, LightSelection selection = LightSelection::kUniform);
 
-  std::vector<size_t> emitters;  // object indices
+  std::vector<size_t> emitters;       // object indices
+  std::vector<size_t> point_lights;   // indices into Scene::point_lights
   bool environment = false;
+  LightSelection selection = LightSelection::kUniform;
 
-  size_t count() const { return emitters.size() + (environment ? 1 : 0); }
-  double selection_pmf() const { return count() > 0 ? 1.0 / double(count()) : 0.0; }
-  // Light index from a uniform number in [0, 1); == emitters.size() is the environment.
+  size_t count() const { return emitters.size() + point_lights.size() + (environment ? 1 : 0); }
+  bool is_emitter(size_t light) const { return light < emitters.size(); }
+  bool is_point_light(size_t light) const { return light >= emitters.size() && light < emitters.size() + point_lights.size(); }
+  bool is_environment(size_t light) const { return environment && light == count() - 1; }
+  // Selection probability of light index `light`.
+  double pmf(size_t light) const { return light < pmf_.size() ? pmf_[light] : 0.0; }
+  // Light index of object `object` if it is an emitter, else count().
+  size_t light_of_object(size_t object) const;
+  // Light index from a uniform number in [0, 1), by inversion of the CDF.
   size_t select(double u) const;
+  // Emitted power Φ of every light (the formulas above), in light-index order.
+  const std::vector<double>& powers() const { return power_; }
+
+ private:
+  std::vector<double> power_, pmf_, cdf_;  // cdf_[i] = Σ_{j ≤ i} pmf_[j], cdf_.back() == 1
 };
 
 }  // namespace furnace

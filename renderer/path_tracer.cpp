@@ -52,7 +52,10 @@ double PathTracer::radiance(const Vec3& direction, const std::optional<SurfaceHi
     if (next_event_ && !ctx.bsdf.is_delta()) {
       if (const auto s = light_.sample(ctx, next_uniform3(rng)); s && s->weight != 0) {
         if (light_visible(scene_, *s, counters)) {
-          const double w = mis_weight(s->pdf_solid_angle, bsdf_.pdf(ctx, s->wi_world), kPowerHeuristic);
+          // A point light (delta) is found by light sampling only: weight 1.
+          const double p_bsdf = bsdf_.pdf(ctx, s->wi_world);
+          const double w = s->delta ? delta_light_mis_weight(*s, p_bsdf, defect_)
+                                    : mis_weight(s->pdf_solid_angle, p_bsdf, kPowerHeuristic);
           radiance += throughput * w * s->weight * s->radiance;
         }
       }

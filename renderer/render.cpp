@@ -38,6 +38,7 @@ constexpr StrategyInfo kStrategies[] = {
     {Strategy::kMisPower, "mis_power"},
     {Strategy::kPathNaive, "path_naive"},
     {Strategy::kPathMis, "path_mis"},
+    {Strategy::kMisOneSample, "mis_one_sample"},
 };
 
 struct DefectInfo {
@@ -52,12 +53,15 @@ constexpr DefectInfo kDefects[] = {
     {Defect::kRouletteNoReweight, "roulette_no_reweight"},
     {Defect::kDoubleCountEmission, "double_count_emission"},
     {Defect::kMisUnnormalisedWeight, "mis_unnormalised_weight"},
+    {Defect::kPointLightMisWeighted, "point_light_mis_weighted"},
+    {Defect::kPowerSelectionUniformPmf, "power_selection_uniform_pmf"},
+    {Defect::kOneSampleNoSelectionProb, "one_sample_no_selection_prob"},
 };
 
 bool is_path_tracer(Strategy s) { return s == Strategy::kPathNaive || s == Strategy::kPathMis; }
 bool samples_lights(Strategy s) {
   return s == Strategy::kLightArea || s == Strategy::kLightSolidAngle || s == Strategy::kMisBalance ||
-         s == Strategy::kMisPower || s == Strategy::kPathMis;
+         s == Strategy::kMisPower || s == Strategy::kPathMis || s == Strategy::kMisOneSample;
 }
 
 // Smallest TBB task, in pixels: one pixel already holds spp samples of work, so
@@ -106,6 +110,16 @@ std::vector<Strategy> all_strategies() {
 
 std::vector<Strategy> path_tracing_strategies() { return {Strategy::kPathNaive, Strategy::kPathMis}; }
 
+bool strategy_sees_delta_lights(Strategy s) { return samples_lights(s); }
+
+std::string light_selection_name(LightSelection s) { return s == LightSelection::kPower ? "power" : "uniform"; }
+
+LightSelection parse_light_selection(const std::string& name) {
+  if (name == "uniform") return LightSelection::kUniform;
+  if (name == "power") return LightSelection::kPower;
+  throw Error(fmt::format("unknown light selection '{}'; the accepted names are uniform, power.", name));
+}
+
 std::string defect_name(Defect d) {
   for (const auto& info : kDefects)
     if (info.defect == d) return info.name;
@@ -135,9 +149,12 @@ Image render(const Scene& scene, const RenderOptions& options) {
 
   const EmbreeDevice device;
   const EmbreeScene rtc_scene(device, scene);
-  const LightSet lights(scene);
+  const LightSet lights(scene, options.light_selection);
   if (samples_lights(options.strategy) && lights.count() == 0)
     throw Error(fmt::format("scene '{}' has no emitter and no environment, so strategy '{}' has no light to sample.",
+                            scene.source.empty() ? scene.name : scene.source, strategy_name(options.strategy)));
+  if (!scene.point_lights.empty() && !strategy_sees_delta_lights(options.strategy))
+    throw Error(fmt::format("scene '{}' has point lights, which strategy '{}' cannot see (no ray hits a delta light).",
                             scene.source.empty() ? scene.name : scene.source, strategy_name(options.strategy)));
 
   const DirectLighting direct(rtc_scene, lights, options.strategy, options.defect);

@@ -25,6 +25,8 @@ enum class Strategy {
   kMisPower,           // "mis_power": the same with the power heuristic (β = 2)
   kPathNaive,          // "path_naive": iterative path tracer, BSDF sampling, emission on hit
   kPathMis,            // "path_mis": path tracer with next-event estimation + MIS (power heuristic)
+  kMisOneSample,       // "mis_one_sample": with probability c = 1/2 one BSDF sample, else one
+                       //   light_solid_angle sample; Veach's one-sample balance heuristic (§9.2.4)
 };
 
 // Deliberately wrong variants, for negative controls only. kNone is the
@@ -40,7 +42,23 @@ enum class Defect {
                         //   weight 1 as well as the light sample's MIS-weighted share (emission counted twice)
   kMisUnnormalisedWeight,  // "mis_unnormalised_weight": mis_balance/mis_power divide by the larger density
                            //   instead of the sum (weights p_a^β/max(p_a, p_b)^β sum to more than 1)
+  // Point-light, light-selection and one-sample MIS controls (appended).
+  kPointLightMisWeighted,     // "point_light_mis_weighted": MIS weighs a point-light (delta) sample like an
+                              //   area sample, by pmf/(pmf + p_bsdf) < 1, although BSDF sampling never finds it
+  kPowerSelectionUniformPmf,  // "power_selection_uniform_pmf": lights chosen by power, weights divided by
+                              //   the uniform pmf 1/K
+  kOneSampleNoSelectionProb,  // "one_sample_no_selection_prob": mis_one_sample divides by p_bsdf + p_light,
+                              //   forgetting the selection probabilities c and 1 − c
 };
+
+// How light-sampling strategies choose one light among the scene's lights.
+enum class LightSelection {
+  kUniform,  // "uniform": pmf 1/K over the K lights
+  kPower,    // "power": pmf proportional to each light's emitted power (lights.h states the powers)
+};
+std::string light_selection_name(LightSelection s);
+// Throws furnace::Error naming the value and the accepted names.
+LightSelection parse_light_selection(const std::string& name);
 
 std::string strategy_name(Strategy s);
 // Throws furnace::Error naming the value and the accepted names.
@@ -52,12 +70,17 @@ Strategy parse_strategy(const std::string& name);
 // scenes without interreflection, like the default disk-occluder scene).
 std::vector<Strategy> all_strategies();
 std::vector<Strategy> path_tracing_strategies();
+// Whether the strategy can see delta (point) lights: only strategies that
+// sample lights explicitly; render() refuses the others on scenes with point
+// lights (their estimate would silently miss that light).
+bool strategy_sees_delta_lights(Strategy s);
 std::string defect_name(Defect d);
 Defect parse_defect(const std::string& name);
 
 struct RenderOptions {
   Strategy strategy = Strategy::kLightArea;
   Defect defect = Defect::kNone;
+  LightSelection light_selection = LightSelection::kUniform;
   int spp = 64;
   uint64_t seed = 1;
   int threads = 0;  // 0: all hardware threads (tbb::global_control otherwise)
@@ -98,7 +121,8 @@ struct Image {
 // first hits the direct strategies estimate ∫ f·Li·cos dω with the BSDF's f:
 // only `bsdf` and the MIS strategies see a mirror's delta lobe. Path tracers
 // return their path's radiance. Throws furnace::Error if the scene has no
-// emitter (nor environment) for light sampling, or on a bad option.
+// emitter (nor environment) for light sampling, if it has point lights and the
+// strategy cannot see them (strategy_sees_delta_lights), or on a bad option.
 Image render(const Scene& scene, const RenderOptions& options);
 
 }  // namespace furnace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <optional>
 
@@ -24,6 +25,10 @@ bool is_path_tracer(Strategy s) {
   return false;
 }
 }  // namespace
+
+// Relative round-off of E[Y²] − E² (each a short sum of double products):
+// a predicted variance below this fraction of E² is taken as exactly 0.
+constexpr double kPredictedVarianceRoundOff = 64 * std::numeric_limits<double>::epsilon();
 
 // The analytic model of a direct strategy's single-sample estimator, where
 // analytic/moments.h has one. BSDF sampling of a Lambertian receiver is
@@ -125,14 +130,21 @@ Verdict run_case(const Case& c, double per_case_alpha) {
   // Predicted per-pixel variances, when the strategy has an analytic model
   // and analytic/ solves this scene's second moments.
   std::vector<double> predicted_variance;
+  // The light-selection pmf, re-derived in analytic/ (point_light.h).
+  const analytic::LightSelection selection = c.options.light_selection == LightSelection::kPower
+                                                 ? analytic::LightSelection::kPower
+                                                 : analytic::LightSelection::kUniform;
   if (const auto estimator = analytic_estimator(c.options.strategy); estimator && c.options.defect == Defect::kNone) {
     try {
       predicted_variance.resize(reference.size());
       for (int py = 0; py < image.height; ++py)
         for (int px = 0; px < image.width; ++px) {
           const size_t i = size_t(py) * image.width + px;
-          const double m2 = analytic::pixel_center_second_moment(*estimator, scene, px, py);
-          predicted_variance[i] = std::fmax(0.0, m2 - reference[i] * reference[i]);
+          const double m2 = analytic::pixel_center_second_moment(*estimator, scene, px, py, selection);
+          const double e2 = reference[i] * reference[i];
+          // An exact estimator (a lone point light) has E[Y²] = E², computed
+          // along two double paths: a difference within round-off is zero.
+          predicted_variance[i] = m2 - e2 <= kPredictedVarianceRoundOff * e2 ? 0.0 : m2 - e2;
         }
     } catch (const Error&) {
       predicted_variance.clear();  // not modelled for this scene: mean tests only

@@ -26,9 +26,11 @@ namespace {
 using namespace furnace;
 
 int run_render(const std::string& scene_path, const std::string& strategy, const std::string& defect,
-               int spp, uint64_t seed, int threads, int max_depth, int roulette_depth, const std::string& output) {
+               int spp, uint64_t seed, int threads, int max_depth, int roulette_depth, const std::string& output,
+               const std::string& light_selection) {
   const Scene scene = load_scene(scene_path);
   RenderOptions options;
+  options.light_selection = parse_light_selection(light_selection);
   options.strategy = parse_strategy(strategy);
   options.defect = parse_defect(defect);
   options.spp = spp;
@@ -46,11 +48,13 @@ int run_render(const std::string& scene_path, const std::string& strategy, const
 }
 
 int run_verify(std::vector<std::string> scenes, std::vector<std::string> strategies, const std::string& defect,
-               int spp, uint64_t seed, int threads, double alpha, int max_depth) {
+               int spp, uint64_t seed, int threads, double alpha, int max_depth, const std::string& light_selection) {
+  const LightSelection selection = parse_light_selection(light_selection);
   std::vector<verify::Case> cases;
   if (scenes.empty()) {
     for (verify::Case c : verify::default_suite(spp, seed, threads)) {
       c.options.defect = parse_defect(defect);
+      c.options.light_selection = selection;
       const bool selected = strategies.empty() ||
                             std::find(strategies.begin(), strategies.end(), strategy_name(c.options.strategy)) !=
                                 strategies.end();
@@ -58,12 +62,16 @@ int run_verify(std::vector<std::string> scenes, std::vector<std::string> strateg
     }
     for (const std::string& name : strategies) parse_strategy(name);  // reject unknown names
   }
+  const bool all_direct = strategies.empty();
   if (!scenes.empty() && strategies.empty())
     for (Strategy s : all_strategies()) strategies.push_back(strategy_name(s));
   for (const std::string& path : scenes) {
-    load_scene(path);  // fail fast on a bad file, before any rendering
+    const Scene scene = load_scene(path);  // fail fast on a bad file, before any rendering
     for (const std::string& name : strategies) {
+      // By default, skip the strategies that cannot see the scene's point lights.
+      if (all_direct && !scene.point_lights.empty() && !strategy_sees_delta_lights(parse_strategy(name))) continue;
       verify::Case c;
+      c.options.light_selection = selection;
       c.scene_path = path;
       c.options.strategy = parse_strategy(name);
       c.options.defect = parse_defect(defect);
@@ -167,6 +175,8 @@ int main(int argc, char** argv) {
   auto* render_cmd = app.add_subcommand("render", "Render a scene with one strategy to an OpenEXR image");
   render_cmd->add_option("--scene", scene_path, "Scene file (JSON)")->required();
   render_cmd->add_option("--strategy", strategy, "Sampling strategy")->capture_default_str();
+  std::string light_selection = "uniform";
+  render_cmd->add_option("--light-selection", light_selection, "Light selection pmf: uniform or power")->capture_default_str();
   render_cmd->add_option("--defect", defect, "Negative-control defect to inject (tests only)")->capture_default_str();
   render_cmd->add_option("--spp", spp, "Samples per pixel")->capture_default_str()->check(CLI::Range(1, 1 << 24));
   render_cmd->add_option("--seed", seed, "Random seed")->capture_default_str();
@@ -187,6 +197,8 @@ int main(int argc, char** argv) {
   auto* verify_cmd = app.add_subcommand("verify", "Render the analytic scenes and test them against their exact references");
   verify_cmd->add_option("--scene", v_scenes, "Scene file(s); default: the built-in suite");
   verify_cmd->add_option("--strategy", v_strategies, "Strategy name(s); default: all");
+  std::string v_light_selection = "uniform";
+  verify_cmd->add_option("--light-selection", v_light_selection, "Light selection pmf: uniform or power")->capture_default_str();
   verify_cmd->add_option("--defect", v_defect, "Inject a negative-control defect (the run must then fail)")->capture_default_str();
   verify_cmd->add_option("--spp", v_spp, "Samples per pixel")->capture_default_str()->check(CLI::Range(2, 1 << 24));
   verify_cmd->add_option("--seed", v_seed, "Random seed")->capture_default_str();
@@ -246,7 +258,7 @@ int main(int argc, char** argv) {
     return app.exit(e);
   }
   try {
-    if (*render_cmd) return run_render(scene_path, strategy, defect, spp, seed, threads, max_depth, roulette_depth, output);
+    if (*render_cmd) return run_render(scene_path, strategy, defect, spp, seed, threads, max_depth, roulette_depth, output, light_selection);
     if (*analytic_cmd) {
       const Scene scene = load_scene(a_scene);
       verify::AnalyticQuery q;
@@ -272,7 +284,7 @@ int main(int argc, char** argv) {
       for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
       return run_report(r_strategies, r_min_spp, r_max_spp, r_seed, r_threads, r_dir, command_line);
     }
-    if (*verify_cmd) return run_verify(v_scenes, v_strategies, v_defect, v_spp, v_seed, v_threads, v_alpha, v_max_depth);
+    if (*verify_cmd) return run_verify(v_scenes, v_strategies, v_defect, v_spp, v_seed, v_threads, v_alpha, v_max_depth, v_light_selection);
   } catch (const furnace::Error& e) {
     std::fprintf(stderr, "furnace: error: %s\n", e.what());
     return 2;

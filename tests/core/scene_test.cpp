@@ -15,6 +15,7 @@ const char* kValid = R"({
   "camera": {"type": "orthographic", "center": [0, 0, 0.5], "forward": [0, 0, -1], "up": [0, 1, 0],
              "size": [4, 2], "resolution": [8, 4]},
   "environment": {"radiance": 0.25},
+  "point_lights": [{"name": "bulb", "position": [0.5, 0, 1], "intensity": 2}],
   "objects": [
     {"name": "floor", "shape": {"type": "rectangle", "corner": [-2, -1, 0], "edge_u": [4, 0, 0], "edge_v": [0, 2, 0]},
      "material": {"type": "lambertian", "albedo": 0.5}},
@@ -35,6 +36,10 @@ TEST(SceneLoader, ParsesValidScene) {
   EXPECT_EQ(s.objects[1].emitted_radiance, 3.0);
   const auto& disk = std::get<Disk>(s.objects[1].shape);
   EXPECT_EQ(disk.normal, Vec3(0, 0, -1));  // normalised on load
+  ASSERT_EQ(s.point_lights.size(), 1u);
+  EXPECT_EQ(s.point_lights[0].name, "bulb");
+  EXPECT_EQ(s.point_lights[0].position, Vec3(0.5, 0, 1));
+  EXPECT_EQ(s.point_lights[0].intensity, 2.0);
 }
 
 TEST(SceneLoader, PixelCenterRaysCoverTheImagePlane) {
@@ -83,6 +88,11 @@ INSTANTIATE_TEST_SUITE_P(
                     BadInput{"ShortVector", "\"center\": [0, 0, 2]", "\"center\": [0, 2]", "objects[1].shape.center", "[0,2]"},
                     BadInput{"ZeroResolution", "[8, 4]", "[0, 4]", "camera.resolution", "[0,4]"},
                     BadInput{"MissingCamera", "\"camera\"", "\"kamera\"", "camera", "missing"},
+                    BadInput{"ZeroIntensity", "\"intensity\": 2", "\"intensity\": 0", "point_lights[0].intensity", "0"},
+                    BadInput{"NegativeIntensity", "\"intensity\": 2", "\"intensity\": -3", "point_lights[0].intensity", "-3"},
+                    BadInput{"PointLightPosition", "[0.5, 0, 1]", "[0.5, 1]", "point_lights[0].position", "[0.5,1]"},
+                    BadInput{"PointLightsNotArray", "\"point_lights\": [{\"name\": \"bulb\", \"position\": [0.5, 0, 1], \"intensity\": 2}]",
+                             "\"point_lights\": 7", "point_lights", "7"},
                     BadInput{"NotJson", "\"name\": \"t\",", "\"name\": \"t\",,", "not valid JSON", "byte"}),
     [](const testing::TestParamInfo<BadInput>& info) { return std::string(info.param.name); });
 

@@ -55,6 +55,21 @@ TEST(Cli, UnknownStrategyIsNamed) {
   EXPECT_NE(r.output.find("uniform_hemisphre"), std::string::npos) << r.output;
 }
 
+TEST(Cli, UnknownLightSelectionIsNamed) {
+  const Result r = run_cli("verify --scene " + std::string(FURNACE_SCENE_DIR) + "/point_light.json --light-selection flux --spp 4");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("light selection 'flux'"), std::string::npos) << r.output;
+}
+
+TEST(Cli, PointLightSceneSkipsBlindStrategiesAndPassesUnderPowerSelection) {
+  const Result r = run_cli("verify --scene " + std::string(FURNACE_SCENE_DIR) +
+                           "/point_and_area.json --light-selection power --spp 256 --strategy light_solid_angle mis_one_sample");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  const Result all = run_cli("verify --scene " + std::string(FURNACE_SCENE_DIR) + "/point_light.json --spp 128");
+  EXPECT_EQ(all.exit_code, 0) << all.output;
+  EXPECT_EQ(all.output.find("uniform_hemisphere"), std::string::npos) << all.output;
+}
+
 TEST(Cli, MissingSceneFileIsNamed) {
   const Result r = run_cli("verify --scene /no/such/scene.json");
   EXPECT_NE(r.exit_code, 0);
