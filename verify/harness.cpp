@@ -70,11 +70,16 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
     const char* scene;
     std::vector<Strategy> strategies;
     int max_depth;
+    LightSelection selection = LightSelection::kUniform;
   };
   std::vector<Strategy> direct = all_strategies();
   std::vector<Strategy> paths = path_tracing_strategies();
   std::vector<Strategy> everything = direct;
   everything.insert(everything.end(), paths.begin(), paths.end());
+  // Scenes with point lights: only the strategies that sample lights see them.
+  std::vector<Strategy> delta_aware;
+  for (Strategy s : everything)
+    if (strategy_sees_delta_lights(s)) delta_aware.push_back(s);
   const std::vector<Entry> entries = {
       {"disk_occluder.json", everything, analytic::kUnlimitedSegments},
       {"sphere_light.json", direct, analytic::kUnlimitedSegments},
@@ -82,7 +87,12 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
       {"rectangle_light.json", direct, analytic::kUnlimitedSegments},
       {"environment_blocker.json", direct, analytic::kUnlimitedSegments},
       {"three_lights.json", everything, analytic::kUnlimitedSegments},
+      {"three_lights.json", delta_aware, analytic::kUnlimitedSegments, LightSelection::kPower},
       {"polygon_occluder.json", everything, analytic::kUnlimitedSegments},
+      {"point_light.json", delta_aware, analytic::kUnlimitedSegments},
+      {"point_light_unoccluded.json", delta_aware, analytic::kUnlimitedSegments},
+      {"point_and_area.json", delta_aware, analytic::kUnlimitedSegments},
+      {"point_and_area.json", delta_aware, analytic::kUnlimitedSegments, LightSelection::kPower},
       {"white_furnace.json", paths, analytic::kUnlimitedSegments},
       {"convex_furnace.json", paths, analytic::kUnlimitedSegments},
       {"enclosure_box.json", paths, analytic::kUnlimitedSegments},
@@ -102,6 +112,7 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
       c.options.seed = seed;
       c.options.threads = threads;
       c.options.max_depth = e.max_depth;
+      c.options.light_selection = e.selection;
       cases.push_back(c);
     }
   }
@@ -119,6 +130,7 @@ Verdict run_case(const Case& c, double per_case_alpha) {
   v.strategy = strategy_name(c.options.strategy);
   if (is_path_tracer(c.options.strategy))
     v.strategy += c.options.max_depth == analytic::kUnlimitedSegments ? "/inf" : "/d" + std::to_string(c.options.max_depth);
+  if (c.options.light_selection == LightSelection::kPower) v.strategy += "@power";
   v.defect = defect_name(c.options.defect);
   v.spp = c.options.spp;
   v.pixels = int(reference.size());
@@ -258,13 +270,13 @@ std::string format_table(const std::vector<Verdict>& verdicts, double family_alp
   out += fmt::format("family-wise alpha {} (Sidak over {} cases, each over its pixels + image mean); "
                      "detectable bias at power {}\n",
                      family_alpha, verdicts.size(), kReportedPower);
-  out += fmt::format("{:<19} {:<20} {:>6} {:>10} {:>10} {:>7} {:>6} {:>9} {:>7} {:>9} {:>9} {:>9} {:>7} {:>10}  {}\n",
+  out += fmt::format("{:<22} {:<24} {:>6} {:>10} {:>10} {:>7} {:>6} {:>9} {:>7} {:>9} {:>9} {:>9} {:>7} {:>10}  {}\n",
                      "scene", "strategy", "spp", "mean", "reference", "z", "z crit", "px fail", "px skip", "rel RMSE",
                      "detect", "px detect", "time s", "Msamples/s", "verdict");
   for (const Verdict& v : verdicts) {
     std::string strategy = v.strategy;
     if (v.defect != "none") strategy += "+" + v.defect;
-    out += fmt::format("{:<19} {:<20} {:>6} {:>10.6g} {:>10.6g} {:>7.3f} {:>6.2f} {:>4}/{:<4} {:>7} {:>9.3g} {:>8.3g}% {:>8.3g}% {:>7.3f} {:>10.3g}  {}\n",
+    out += fmt::format("{:<22} {:<24} {:>6} {:>10.6g} {:>10.6g} {:>7.3f} {:>6.2f} {:>4}/{:<4} {:>7} {:>9.3g} {:>8.3g}% {:>8.3g}% {:>7.3f} {:>10.3g}  {}\n",
                        v.scene, strategy, v.spp, v.image_mean, v.reference_mean, v.z, v.threshold,
                        v.pixel_failures, v.pixels, v.pixels_untested,
                        v.reference_mean > 0 ? v.rmse / v.reference_mean : v.rmse, 100 * v.detectable_rel_bias,

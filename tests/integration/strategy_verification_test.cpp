@@ -91,6 +91,7 @@ INSTANTIATE_TEST_SUITE_P(Builtin, SuiteCase, testing::ValuesIn(default_suite(kSp
                            std::string name = camel(scene) + camel(strategy_name(c.options.strategy));
                            if (c.options.max_depth != std::numeric_limits<int>::max())
                              name += "Depth" + std::to_string(c.options.max_depth);
+                           if (c.options.light_selection == LightSelection::kPower) name += "PowerSelection";
                            return name;
                          });
 
