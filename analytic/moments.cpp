@@ -92,6 +92,46 @@ double emitter_kernel(Estimator estimator, const Scene& scene, size_t i, const V
   return polygon_area_kernel(polygon_vertices_relative(object.shape, p), n);
 }
 
+// ---------------------------------------------------------------------------
+// Light solid-angle sampling (Estimator::kLightSolidAngle). The renderer's
+// choice of method per emitter, restated from its documented contract
+// (renderer/light_strategy.h, spherical_sampling.h), not included:
+// below this solid angle the spherical maps are not used (area sampling),
+constexpr double kRendererMinSampledSolidAngle = 1e-6;
+// and a rectangle's edges count as perpendicular within this relative tolerance.
+constexpr double kRendererPerpendicularTolerance = 1e-12;
+
+// E[Y²]/(K·L²) of emitter i under light_solid_angle sampling:
+//   cone or whole spherical polygon: Ω·∫_visible max(cos θ, 0)² dω,
+//   area fallback:                  A·∫_visible (cos θ cos θ'/r²)² dA (kLightArea).
+double solid_angle_emitter_kernel(const Scene& scene, size_t i, const Vec3& p, const Vec3& n,
+                                  std::optional<size_t> receiver) {
+  const Object& object = scene.objects[i];
+  auto area_fallback = [&] {
+    return shape_area(object.shape) * emitter_kernel(Estimator::kLightArea, scene, i, p, n, receiver);
+  };
+  if (std::holds_alternative<Disk>(object.shape)) return area_fallback();
+  if (const auto* r = std::get_if<Rectangle>(&object.shape)) {
+    const double lu = length(r->edge_u), lv = length(r->edge_v);
+    if (!(std::fabs(dot(r->edge_u, r->edge_v)) <= kRendererPerpendicularTolerance * lu * lv)) return area_fallback();
+  }
+  // Nothing of it reaches p (behind a one-sided light, edge-on, below the
+  // horizon or wholly hidden): every sample is 0, whatever the method.
+  if (emitter_irradiance(scene, i, p, n, receiver) == 0) return 0.0;
+  if (const auto* sphere = std::get_if<Sphere>(&object.shape)) {
+    const Vec3 center = sphere->center - p;
+    const double D = length(center);
+    if (!(D > sphere->radius)) return area_fallback();  // on or inside: the renderer has no cone
+    require_unoccluded(scene, i, p, n, receiver);
+    return sphere_solid_angle(D, sphere->radius) * sphere_cos2_solid_angle(center, sphere->radius, n);
+  }
+  // Triangles and rectangles seen from their emitting side (a two-sided light
+  // from behind is sampled as its mirror twin: the same Ω).
+  const double omega = polygon_solid_angle(polygon_vertices_relative(object.shape, p));
+  if (!(omega >= kRendererMinSampledSolidAngle)) return area_fallback();
+  return omega * planar_light_cos2_solid_angle(scene, i, p, n, receiver);
+}
+
 }  // namespace
 
 double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, const Vec3& n,
@@ -115,6 +155,9 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
       case Estimator::kLightArea:
         moment += double(light_count) * shape_area(object.shape) * le * le * emitter_kernel(estimator, scene, i, p, n, receiver);
         break;
+      case Estimator::kLightSolidAngle:
+        moment += double(light_count) * le * le * solid_angle_emitter_kernel(scene, i, p, n, receiver);
+        break;
     }
   }
   const double e_env = environment_irradiance(scene, p, n, receiver);
@@ -132,6 +175,7 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
         moment += kPi * l_env * e_env;
         break;
       case Estimator::kLightArea:  // the environment is sampled cosine-weighted, chosen with pmf 1/K
+      case Estimator::kLightSolidAngle:
         moment += double(light_count) * kPi * l_env * e_env;
         break;
     }

@@ -34,6 +34,7 @@ std::optional<analytic::Estimator> analytic_estimator(Strategy s) {
     case Strategy::kCosineHemisphere: return analytic::Estimator::kCosineHemisphere;
     case Strategy::kBsdf: return analytic::Estimator::kCosineHemisphere;
     case Strategy::kLightArea: return analytic::Estimator::kLightArea;
+    case Strategy::kLightSolidAngle: return analytic::Estimator::kLightSolidAngle;
     default: return std::nullopt;
   }
 }
