@@ -45,6 +45,19 @@ enum class Estimator {
   //   Y = K·L·V·max(cos θ, 0)·Ω,  E[Y²] = Σ_lights K·Ω·L² ∫_visible max(cos θ, 0)² dω
   //   (+ the kLightArea terms of area-sampled emitters and the environment).
   kLightSolidAngle,
+  // Multi-sample MIS (the renderer's mis_balance / mis_power on a Lambertian
+  // receiver): one cosine (BSDF) sample and one kLightSolidAngle sample,
+  // each weighted by the heuristic w_s = p_s^β/(p_b^β + p_l^β), β = 1 or 2,
+  // with p_b = cos θ/π and p_l the light strategy's density in solid angle
+  // (selection pmf 1/K included; 1/Ω, the area density p_A·r²/cos θ', or
+  // the environment's cos θ/π):
+  //   Y = Y_b + Y_l (independent),  E[Y²] = E[Y_b²] + E[Y_l²] + 2·E[Y_b]·E[Y_l],
+  //   E[Y_s²] = ∫ w_s² (L cos θ)²/p_s dω,  E[Y_s] = ∫ w_s L cos θ dω.
+  // Supported: unoccluded emitters (every one by quadrature over its solid
+  // angle) and the constant environment (w constant on the open sky, so its
+  // terms follow from E_env); elsewhere throws furnace::Error.
+  kMisBalance,
+  kMisPower,
 };
 
 // E[Y²] at p with unit normal n; `receiver` as in irradiance().
