@@ -177,9 +177,11 @@ std::vector<std::pair<double, double>> positive_arcs(double A, double B, double 
 constexpr double kMisQuadratureTolerance = 1e-10;
 constexpr unsigned kMisQuadratureDepth = 15;
 
-// ∫ g(cos θ, dω/d(param)) over a ring family: outer u ∈ [u0, u1], inner φ
-// over the arcs where cos θ > 0 (given by the ring's A, B, C); `direction`
-// maps (u, φ) to (unnormalised point x relative to p, measure factor).
+// ∫ g(cos θ, p_light) dω over a family of rings: outer u ∈ [u0, u1] (split
+// at `kinks`, where the horizon starts to cut the rings), inner φ over the
+// arcs where cos θ = A + B cos φ + C sin φ > 0 (ring.coefficients); ring.at
+// gives cos θ, p_light and the measure dω/(du dφ) at (u, φ). Gauss–Kronrod
+// (31 points), adaptive, relative tolerance kMisQuadratureTolerance.
 template <class Ring, class Integrand>
 double ring_integral(double u0, double u1, const std::vector<double>& kinks, Ring ring, Integrand g) {
   using boost::math::quadrature::gauss_kronrod;

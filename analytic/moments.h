@@ -8,8 +8,11 @@
 // and light-area estimators, disk lights on the circle fast path (parallel
 // receiver, parallel disk occluders) and unoccluded sphere, rectangle and
 // triangle lights (light_moments.h); the environment with non-overlapping
-// blockers (spheres, polygons, parallel disks). Elsewhere throws
-// furnace::Error, like irradiance() does.
+// blockers (spheres, polygons, parallel disks). For light solid-angle
+// sampling, the cone / spherical polygon cases of unoccluded spheres and of
+// polygons (occluders allowed) plus the light-area cases where the renderer
+// falls back to area sampling; for MIS, unoccluded emitters and the
+// environment. Elsewhere throws furnace::Error, like irradiance() does.
 #pragma once
 
 #include <optional>
