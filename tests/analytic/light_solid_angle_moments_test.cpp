@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <ostream>
 #include <string>
 
 #include <boost/math/distributions/normal.hpp>
@@ -90,6 +91,8 @@ Brute brute_force(const Case& c) {
   return {testing_support::patch_integral(patch, c.p, to_plane, omega_weight),
           testing_support::patch_integral(patch, c.p, c.n, cos2_weight)};
 }
+
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 
 class LightSolidAngleMoment : public testing::TestWithParam<Case> {};
 

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <ostream>
 #include <string>
 
 #include <boost/math/distributions/normal.hpp>
@@ -197,6 +198,8 @@ double z_critical(size_t family) {
   const double alpha_each = -std::expm1(std::log1p(-kFamilyAlpha) / double(family));
   return boost::math::quantile(boost::math::complement(boost::math::normal(), alpha_each / 2));
 }
+
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 
 class MisMoment : public testing::TestWithParam<Case> {};
 

@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <ostream>
 #include <string>
 
 #include "renderer/direct_strategies.h"
@@ -199,6 +200,8 @@ struct LightCase {
   std::string name;
   Shape shape;
 };
+
+void PrintTo(const LightCase& c, std::ostream* os) { *os << c.name; }
 
 class SolidAngleZeroVariance : public testing::TestWithParam<LightCase> {};
 

@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <ostream>
 #include <string>
 
 #include <boost/math/distributions/normal.hpp>
@@ -171,6 +172,8 @@ void report(const std::string& name, const Chi2Result& r, double pdf_integral, d
             << ", int pdf " << pdf_integral << ", failed samples " << failures << ", detectable w "
             << r.detectable_effect << "\n";
 }
+
+void PrintTo(const BsdfCase& c, std::ostream* os) { *os << c.name; }
 
 class BsdfChi2 : public testing::TestWithParam<BsdfCase> {};
 
