@@ -123,4 +123,21 @@ double polygon_area_kernel(const std::vector<Vec3>& vertices, const Vec3& n) {
   return sum;
 }
 
+double sphere_solid_angle(double D, double R) {
+  FURNACE_CHECK(D > R && R > 0);
+  const double s2 = (R / D) * (R / D);  // sin²α
+  return 2 * kPi * s2 / (1 + std::sqrt((1 - R / D) * (1 + R / D)));
+}
+
+double polygon_solid_angle(const std::vector<Vec3>& vertices) {
+  FURNACE_CHECK(vertices.size() >= 3);
+  const Vec3 a = normalize(vertices[0]);
+  double sigma = 0;
+  for (size_t k = 1; k + 1 < vertices.size(); ++k) {
+    const Vec3 b = normalize(vertices[k]), c = normalize(vertices[k + 1]);
+    sigma += 2 * std::atan2(dot(a, cross(b, c)), 1 + dot(a, b) + dot(b, c) + dot(c, a));
+  }
+  return std::fabs(sigma);
+}
+
 }  // namespace furnace::analytic

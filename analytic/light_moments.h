@@ -44,4 +44,13 @@ double polygon_cos2_solid_angle(const std::vector<Vec3>& vertices, const Vec3& n
 // Relative tolerance about 1e-12.
 double polygon_area_kernel(const std::vector<Vec3>& vertices, const Vec3& n);
 
+// Full (unclipped) solid angles, sr, for the solid-angle sampling densities
+// p = 1/Ω: a sphere of radius R at distance D > R,
+//   Ω = 2π(1 − cos α) = 2π·(R/D)²/(1 + √(1 − (R/D)²))   (no cancellation for small R/D),
+// and a planar convex polygon (vertices relative to p, any winding) as the
+// absolute sum of its fan of Van Oosterom–Strackee triangles,
+//   Ω_abc = 2·atan2(a·(b × c), 1 + a·b + b·c + c·a)   (a, b, c unit).
+double sphere_solid_angle(double D, double R);
+double polygon_solid_angle(const std::vector<Vec3>& vertices);
+
 }  // namespace furnace::analytic

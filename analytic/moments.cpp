@@ -1,7 +1,12 @@
 #include "analytic/moments.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
+#include <vector>
+
+#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <variant>
 
 #include "analytic/circle_region.h"
@@ -99,7 +104,7 @@ double emitter_kernel(Estimator estimator, const Scene& scene, size_t i, const V
 double point_lights_second_moment(Estimator estimator, const Scene& scene, const Vec3& p, const Vec3& n,
                                   std::optional<size_t> receiver, const std::vector<double>& pmf) {
   if (scene.point_lights.empty()) return 0.0;
-  if (estimator != Estimator::kLightArea)
+  if (estimator != Estimator::kLightArea && estimator != Estimator::kLightSolidAngle)
     unsupported_configuration(scene, "point lights, which a hemisphere estimator cannot sample,");
   size_t first = 0;
   for (const Object& o : scene.objects) first += o.is_emitter() ? 1 : 0;
@@ -111,10 +116,288 @@ double point_lights_second_moment(Estimator estimator, const Scene& scene, const
   return moment;
 }
 
+// ---------------------------------------------------------------------------
+// Light solid-angle sampling (Estimator::kLightSolidAngle). The renderer's
+// choice of method per emitter, restated from its documented contract
+// (renderer/light_strategy.h, spherical_sampling.h), not included:
+// below this solid angle the spherical maps are not used (area sampling),
+constexpr double kRendererMinSampledSolidAngle = 1e-6;
+// and a rectangle's edges count as perpendicular within this relative tolerance.
+constexpr double kRendererPerpendicularTolerance = 1e-12;
+
+// E[Y²]/(K·L²) of emitter i under light_solid_angle sampling:
+//   cone or whole spherical polygon: Ω·∫_visible max(cos θ, 0)² dω,
+//   area fallback:                  A·∫_visible (cos θ cos θ'/r²)² dA (kLightArea).
+double solid_angle_emitter_kernel(const Scene& scene, size_t i, const Vec3& p, const Vec3& n,
+                                  std::optional<size_t> receiver) {
+  const Object& object = scene.objects[i];
+  auto area_fallback = [&] {
+    return shape_area(object.shape) * emitter_kernel(Estimator::kLightArea, scene, i, p, n, receiver);
+  };
+  if (std::holds_alternative<Disk>(object.shape)) return area_fallback();
+  if (const auto* r = std::get_if<Rectangle>(&object.shape)) {
+    const double lu = length(r->edge_u), lv = length(r->edge_v);
+    if (!(std::fabs(dot(r->edge_u, r->edge_v)) <= kRendererPerpendicularTolerance * lu * lv)) return area_fallback();
+  }
+  // Nothing of it reaches p (behind a one-sided light, edge-on, below the
+  // horizon or wholly hidden): every sample is 0, whatever the method.
+  if (emitter_irradiance(scene, i, p, n, receiver) == 0) return 0.0;
+  if (const auto* sphere = std::get_if<Sphere>(&object.shape)) {
+    const Vec3 center = sphere->center - p;
+    const double D = length(center);
+    if (!(D > sphere->radius)) return area_fallback();  // on or inside: the renderer has no cone
+    require_unoccluded(scene, i, p, n, receiver);
+    return sphere_solid_angle(D, sphere->radius) * sphere_cos2_solid_angle(center, sphere->radius, n);
+  }
+  // Triangles and rectangles seen from their emitting side (a two-sided light
+  // from behind is sampled as its mirror twin: the same Ω).
+  const double omega = polygon_solid_angle(polygon_vertices_relative(object.shape, p));
+  if (!(omega >= kRendererMinSampledSolidAngle)) return area_fallback();
+  return omega * planar_light_cos2_solid_angle(scene, i, p, n, receiver);
+}
+
+// ---------------------------------------------------------------------------
+// Multi-sample MIS (Estimator::kMisBalance, kMisPower).
+
+// The four integrals of one light's (or the sky's) directions:
+// E[Y_b²], E[Y_l²], E[Y_b], E[Y_l], per unit radiance (L², L², L, L).
+struct MisTerms {
+  double bsdf2 = 0, light2 = 0, bsdf1 = 0, light1 = 0;
+};
+
+// Heuristic weight of density a against b, 0 where a = 0.
+double heuristic(double a, double b, int beta) {
+  if (!(a > 0)) return 0.0;
+  const double x = beta == 2 ? a * a : a, y = beta == 2 ? b * b : b;
+  return x / (x + y);
+}
+
+// Integrand of term k at a direction with cos θ > 0 and light density p_l
+// (selection included); cosine density p_b = cos θ/π.
+double mis_integrand(int k, double cos_theta, double p_light, int beta) {
+  const double p_bsdf = cos_theta * kInvPi;
+  switch (k) {
+    case 0: { const double w = heuristic(p_bsdf, p_light, beta); return w * w * cos_theta * cos_theta / p_bsdf; }
+    case 1: { const double w = heuristic(p_light, p_bsdf, beta); return w * w * cos_theta * cos_theta / p_light; }
+    case 2: return heuristic(p_bsdf, p_light, beta) * cos_theta;
+    default: return heuristic(p_light, p_bsdf, beta) * cos_theta;
+  }
+}
+
+// The φ-arcs of [0, 2π) on which A + B cos φ + C sin φ > 0.
+std::vector<std::pair<double, double>> positive_arcs(double A, double B, double C) {
+  const double M = std::hypot(B, C);
+  if (M <= std::fabs(A)) return A > 0 ? std::vector<std::pair<double, double>>{{0, 2 * kPi}}
+                                      : std::vector<std::pair<double, double>>{};
+  const double phi0 = std::atan2(C, B), half = std::acos(-A / M);
+  return {{phi0 - half, phi0 + half}};
+}
+
+constexpr double kMisQuadratureTolerance = 1e-10;
+constexpr unsigned kMisQuadratureDepth = 15;
+
+// ∫ g(cos θ, p_light) dω over a family of rings: outer u ∈ [u0, u1] (split
+// at `kinks`, where the horizon starts to cut the rings), inner φ over the
+// arcs where cos θ = A + B cos φ + C sin φ > 0 (ring.coefficients); ring.at
+// gives cos θ, p_light and the measure dω/(du dφ) at (u, φ). Gauss–Kronrod
+// (31 points), adaptive, relative tolerance kMisQuadratureTolerance.
+template <class Ring, class Integrand>
+double ring_integral(double u0, double u1, const std::vector<double>& kinks, Ring ring, Integrand g) {
+  using boost::math::quadrature::gauss_kronrod;
+  auto outer = [&](double u) {
+    double A, B, C;
+    ring.coefficients(u, &A, &B, &C);
+    double sum = 0;
+    for (const auto& [lo, hi] : positive_arcs(A, B, C)) {
+      auto inner = [&](double phi) {
+        double cos_theta, p_light, measure;
+        ring.at(u, phi, &cos_theta, &p_light, &measure);
+        return cos_theta > 0 ? g(cos_theta, p_light) * measure : 0.0;
+      };
+      sum += gauss_kronrod<double, 31>::integrate(inner, lo, hi, kMisQuadratureDepth, kMisQuadratureTolerance);
+    }
+    return sum;
+  };
+  std::vector<double> cuts{u0, u1};
+  for (double k : kinks)
+    if (k > u0 && k < u1) cuts.push_back(k);
+  std::sort(cuts.begin(), cuts.end());
+  double total = 0;
+  for (size_t i = 0; i + 1 < cuts.size(); ++i)
+    total += gauss_kronrod<double, 31>::integrate(outer, cuts[i], cuts[i + 1], kMisQuadratureDepth,
+                                                  kMisQuadratureTolerance);
+  return total;
+}
+
+// Sphere seen from outside, sampled uniformly in its cone (p_l = pmf/Ω):
+// cone coordinates (γ, ψ) about the centre direction, dω = sin γ dγ dψ,
+// cos θ = cos γ (n·ĉ) + sin γ (cos ψ n·s + sin ψ n·t).
+struct SphereRings {
+  Frame frame;
+  Vec3 n;
+  double p_light;
+  void coefficients(double gamma, double* A, double* B, double* C) const {
+    *A = std::cos(gamma) * dot(n, frame.n);
+    *B = std::sin(gamma) * dot(n, frame.s);
+    *C = std::sin(gamma) * dot(n, frame.t);
+  }
+  void at(double gamma, double psi, double* cos_theta, double* p, double* measure) const {
+    *cos_theta = std::cos(gamma) * dot(n, frame.n) +
+                 std::sin(gamma) * (std::cos(psi) * dot(n, frame.s) + std::sin(psi) * dot(n, frame.t));
+    *p = p_light;
+    *measure = std::sin(gamma);
+  }
+};
+
+// A disk light (sampled by area in the renderer: p_l = pmf·r²/(A cos θ'))
+// in polar coordinates (ρ, φ) about its centre, dA = ρ dρ dφ.
+struct DiskRings {
+  Vec3 center, e1, e2, m, n;  // centre relative to p, in-plane axes, unit plane normal, receiver normal
+  double pmf, area;
+  void coefficients(double rho, double* A, double* B, double* C) const {
+    *A = dot(n, center);
+    *B = rho * dot(n, e1);
+    *C = rho * dot(n, e2);
+  }
+  void at(double rho, double phi, double* cos_theta, double* p, double* measure) const {
+    const Vec3 x = center + e1 * (rho * std::cos(phi)) + e2 * (rho * std::sin(phi));
+    const double r2 = length_squared(x), r = std::sqrt(r2);
+    const double cos_light = std::fabs(dot(m, x)) / r;
+    *cos_theta = dot(n, x) / r;
+    *p = pmf * r2 / (area * cos_light);   // area density in solid angle
+    *measure = rho * cos_light / r2;       // dω = cos θ'/r² dA, dA = ρ dρ dφ
+  }
+};
+
+// A polygon (parallelogram or triangle) as x(s, t) = a0 + s·a1 + t·(b0 + s·b1),
+// |∂x/∂s × ∂x/∂t| = j0 + j1·s; for fixed s, n·x is linear in t.
+template <class Integrand>
+double patch_integral_mis(const std::vector<Vec3>& v, const Vec3& n, double pmf, double omega, double area,
+                          Integrand g) {
+  using boost::math::quadrature::gauss_kronrod;
+  Vec3 a0 = v[0], a1 = v[1] - v[0], b0, b1;
+  double j0, j1;
+  if (v.size() == 4) {
+    b0 = v[3] - v[0], b1 = {0, 0, 0};
+    j0 = length(cross(a1, b0)), j1 = 0;
+  } else {
+    b0 = {0, 0, 0}, b1 = v[2] - v[1];
+    j0 = 0, j1 = length(cross(a1, v[2] - v[0]));
+  }
+  const Vec3 m = normalize(cross(v[1] - v[0], v[2] - v[0]));
+  auto point = [&](double s, double t) { return a0 + a1 * s + (b0 + b1 * s) * t; };
+  auto inner_s = [&](double s) {
+    const double f0 = dot(n, point(s, 0)), f1 = dot(n, point(s, 1));
+    if (f0 <= 0 && f1 <= 0) return 0.0;
+    const double lo = f0 < 0 ? f0 / (f0 - f1) : 0.0, hi = f1 < 0 ? f0 / (f0 - f1) : 1.0;
+    auto f = [&](double t) {
+      const Vec3 x = point(s, t);
+      const double r2 = length_squared(x), r = std::sqrt(r2);
+      const double cos_theta = dot(n, x) / r, cos_light = std::fabs(dot(m, x)) / r;
+      if (!(cos_theta > 0) || !(cos_light > 0)) return 0.0;
+      const double p_light = omega > 0 ? pmf / omega : pmf * r2 / (area * cos_light);
+      return g(cos_theta, p_light) * cos_light / r2;
+    };
+    return (j0 + j1 * s) * gauss_kronrod<double, 31>::integrate(f, lo, hi, kMisQuadratureDepth, kMisQuadratureTolerance);
+  };
+  std::vector<double> cuts{0, 1};
+  for (double t : {0.0, 1.0}) {
+    const double g0 = dot(n, point(0, t)), g1 = dot(n, point(1, t));
+    if ((g0 < 0) != (g1 < 0)) cuts.push_back(g0 / (g0 - g1));
+  }
+  std::sort(cuts.begin(), cuts.end());
+  double sum = 0;
+  for (size_t i = 0; i + 1 < cuts.size(); ++i)
+    if (cuts[i + 1] > cuts[i])
+      sum += gauss_kronrod<double, 31>::integrate(inner_s, cuts[i], cuts[i + 1], kMisQuadratureDepth,
+                                                  kMisQuadratureTolerance);
+  return sum;
+}
+
+// The MIS terms of emitter i (unoccluded) per unit radiance.
+MisTerms mis_emitter_terms(const Scene& scene, size_t i, const Vec3& p, const Vec3& n,
+                           std::optional<size_t> receiver, double pmf, int beta) {
+  MisTerms terms;
+  if (emitter_irradiance(scene, i, p, n, receiver) == 0) return terms;  // nothing of it reaches p
+  require_unoccluded(scene, i, p, n, receiver);
+  const Object& object = scene.objects[i];
+  double* out[4] = {&terms.bsdf2, &terms.light2, &terms.bsdf1, &terms.light1};
+  for (int k = 0; k < 4; ++k) {
+    auto g = [k, beta](double cos_theta, double p_light) { return mis_integrand(k, cos_theta, p_light, beta); };
+    if (const auto* sphere = std::get_if<Sphere>(&object.shape)) {
+      const Vec3 center = sphere->center - p;
+      const double D = length(center);
+      if (!(D > sphere->radius))
+        unsupported_configuration(scene, "a receiving point on or inside the sphere light '" + object.name +
+                                             "' (for the MIS second moment)");
+      const double alpha = std::asin(sphere->radius / D);
+      const SphereRings rings{Frame::from_normal(center / D), n, pmf / sphere_solid_angle(D, sphere->radius)};
+      // Kink where the horizon starts to cut the rings: γ = |π/2 − β|.
+      const double beta_angle = std::atan2(length(cross(n, center)), dot(n, center));
+      *out[k] = ring_integral(0.0, alpha, {std::fabs(kPi / 2 - beta_angle)}, rings, g);
+    } else if (const auto* d = std::get_if<Disk>(&object.shape)) {
+      const Frame f = Frame::from_normal(d->normal);
+      const DiskRings rings{d->center - p, f.s, f.t, d->normal, n, pmf, d->area()};
+      // Kinks in ρ where the horizon starts cutting the rings: |A| = ρ·M.
+      const double A = dot(n, d->center - p), M = std::hypot(dot(n, f.s), dot(n, f.t));
+      std::vector<double> kinks;
+      if (M > 0) kinks.push_back(std::fabs(A) / M);
+      *out[k] = ring_integral(0.0, d->radius, kinks, rings, g);
+    } else {
+      // Rectangles and triangles: the renderer's choice of method (as for kLightSolidAngle).
+      const std::vector<Vec3> vertices = polygon_vertices_relative(object.shape, p);
+      double omega = polygon_solid_angle(vertices);
+      if (const auto* r = std::get_if<Rectangle>(&object.shape)) {
+        const double lu = length(r->edge_u), lv = length(r->edge_v);
+        if (!(std::fabs(dot(r->edge_u, r->edge_v)) <= kRendererPerpendicularTolerance * lu * lv)) omega = 0;
+      }
+      if (!(omega >= kRendererMinSampledSolidAngle)) omega = 0;  // area sampling
+      *out[k] = patch_integral_mis(vertices, n, pmf, omega, shape_area(object.shape), g);
+    }
+  }
+  return terms;
+}
+
+double mis_second_moment(const Scene& scene, const Vec3& p, const Vec3& n, std::optional<size_t> receiver, int beta) {
+  size_t light_count = scene.environment.radiance > 0 ? 1 : 0;
+  for (const Object& o : scene.objects) light_count += o.is_emitter() ? 1 : 0;
+  if (light_count == 0) return 0.0;
+  const double pmf = 1.0 / double(light_count);
+  double bsdf2 = 0, light2 = 0, bsdf1 = 0, light1 = 0;
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const Object& object = scene.objects[i];
+    if (!object.is_emitter() || (receiver && i == *receiver)) continue;
+    const double le = object.emitted_radiance;
+    const MisTerms t = mis_emitter_terms(scene, i, p, n, receiver, pmf, beta);
+    bsdf2 += le * le * t.bsdf2, light2 += le * le * t.light2;
+    bsdf1 += le * t.bsdf1, light1 += le * t.light1;
+  }
+  // The open sky: p_l = pmf·cos θ/π = pmf·p_b, so w_b = 1/(1 + pmf^β) and
+  // w_l = pmf^β/(1 + pmf^β) are constants; with P = E_env/L_env = ∫_sky cos θ dω:
+  //   E[Y_b²] = w_b² L² π P,  E[Y_l²] = w_l² L² π P/pmf,  E[Y_b] = w_b L P,  E[Y_l] = w_l L P.
+  const double e_env = environment_irradiance(scene, p, n, receiver);
+  if (e_env > 0) {
+    const double l_env = scene.environment.radiance;
+    const double q = beta == 2 ? pmf * pmf : pmf;
+    const double w_b = 1 / (1 + q), w_l = q / (1 + q);
+    bsdf2 += w_b * w_b * l_env * kPi * e_env;
+    light2 += w_l * w_l * l_env * kPi * e_env / pmf;
+    bsdf1 += w_b * e_env;
+    light1 += w_l * e_env;
+  }
+  return bsdf2 + light2 + 2 * bsdf1 * light1;
+}
+
 }  // namespace
 
 double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, const Vec3& n,
                      std::optional<size_t> receiver, LightSelection selection) {
+  if (estimator == Estimator::kMisBalance || estimator == Estimator::kMisPower) {
+    // mis_second_moment models uniform selection among emitters and the sky.
+    if (selection != LightSelection::kUniform || !scene.point_lights.empty())
+      unsupported_configuration(scene, "MIS with point lights or power-proportional light selection");
+    return mis_second_moment(scene, p, n, receiver, estimator == Estimator::kMisBalance ? 1 : 2);
+  }
   // Selection pmf of every light (emitters, point lights, environment), and
   // 1/pmf of the i-th emitter object in object order.
   const std::vector<double> pmf = light_selection_pmf(scene, selection);
@@ -138,6 +421,12 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
       case Estimator::kLightArea:
         moment += inverse_pmf_of_object[i] * shape_area(object.shape) * le * le * emitter_kernel(estimator, scene, i, p, n, receiver);
         break;
+      case Estimator::kLightSolidAngle:
+        moment += inverse_pmf_of_object[i] * le * le * solid_angle_emitter_kernel(scene, i, p, n, receiver);
+        break;
+      case Estimator::kMisBalance:
+      case Estimator::kMisPower:
+        break;  // mis_second_moment above
     }
   }
   moment += point_lights_second_moment(estimator, scene, p, n, receiver, pmf);
@@ -156,7 +445,11 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
         moment += kPi * l_env * e_env;
         break;
       case Estimator::kLightArea:  // the environment is sampled cosine-weighted, chosen with pmf P_env (last)
+      case Estimator::kLightSolidAngle:
         moment += kPi * l_env * e_env / pmf.back();
+        break;
+      case Estimator::kMisBalance:
+      case Estimator::kMisPower:
         break;
     }
   }

@@ -8,8 +8,11 @@
 // and light-area estimators, disk lights on the circle fast path (parallel
 // receiver, parallel disk occluders) and unoccluded sphere, rectangle and
 // triangle lights (light_moments.h); the environment with non-overlapping
-// blockers (spheres, polygons, parallel disks). Elsewhere throws
-// furnace::Error, like irradiance() does.
+// blockers (spheres, polygons, parallel disks). For light solid-angle
+// sampling, the cone / spherical polygon cases of unoccluded spheres and of
+// polygons (occluders allowed) plus the light-area cases where the renderer
+// falls back to area sampling; for MIS, unoccluded emitters and the
+// environment. Elsewhere throws furnace::Error, like irradiance() does.
 #pragma once
 
 #include <optional>
@@ -34,6 +37,31 @@ enum class Estimator {
   //   Y = K·L·V·cos θ·cos θ'/r²·A,  E[Y²] = Σ_lights K·A·L² ∫_visible (cos θ cos θ'/r²)² dA
   //   (+ K·π·L_env·E_env for the environment).
   kLightArea,
+  // Appended (never renumber the above). The renderer's light_solid_angle:
+  // one light chosen uniformly (K as for kLightArea), then a direction
+  // uniform in the solid angle Ω the emitter subtends where the renderer has
+  // an exact map: the cone of a sphere seen from outside, the whole
+  // spherical triangle, or the whole spherical rectangle (perpendicular
+  // edges) of a polygon seen from its emitting side with Ω ≥ 1e-6 sr, p = 1/Ω
+  // (directions below p's horizon or into an occluder give Y = 0). Disks,
+  // sheared parallelograms and tinier polygons are sampled by area as in
+  // kLightArea; the environment cosine-weighted:
+  //   Y = K·L·V·max(cos θ, 0)·Ω,  E[Y²] = Σ_lights K·Ω·L² ∫_visible max(cos θ, 0)² dω
+  //   (+ the kLightArea terms of area-sampled emitters and the environment).
+  kLightSolidAngle,
+  // Multi-sample MIS (the renderer's mis_balance / mis_power on a Lambertian
+  // receiver): one cosine (BSDF) sample and one kLightSolidAngle sample,
+  // each weighted by the heuristic w_s = p_s^β/(p_b^β + p_l^β), β = 1 or 2,
+  // with p_b = cos θ/π and p_l the light strategy's density in solid angle
+  // (selection pmf 1/K included; 1/Ω, the area density p_A·r²/cos θ', or
+  // the environment's cos θ/π):
+  //   Y = Y_b + Y_l (independent),  E[Y²] = E[Y_b²] + E[Y_l²] + 2·E[Y_b]·E[Y_l],
+  //   E[Y_s²] = ∫ w_s² (L cos θ)²/p_s dω,  E[Y_s] = ∫ w_s L cos θ dω.
+  // Supported: unoccluded emitters (every one by quadrature over its solid
+  // angle) and the constant environment (w constant on the open sky, so its
+  // terms follow from E_env); elsewhere throws furnace::Error.
+  kMisBalance,
+  kMisPower,
 };
 
 // E[Y²] at p with unit normal n; `receiver` as in irradiance().
@@ -46,6 +74,9 @@ enum class Estimator {
 //   G(s)/s² = (1 + c + c²)/(3r(r + h)), c = h/r    (uniform hemisphere),
 //   G(s)/s² = (3h⁴ + 3h²s² + s⁴)/(6h²(h²+s²)³)    (light area),
 // (r = √(h² + s²)), both written without the cancelling 1 − (h/r)^k form.
+// Light solid angle: Ω in closed form (light_moments.h), the cos² integral
+// as for the uniform hemisphere (spheres unoccluded; polygons by the exact
+// planar path, occluders allowed).
 // Unoccluded environment: ∫ cos²θ dω = 2π/3 over the hemisphere.
 // Finiteness: every supported case has h > 0 and is finite. The light-area
 // moment grows like A·L²/(h²) as p approaches the emitter plane (h → 0) and is

@@ -39,6 +39,9 @@ std::optional<analytic::Estimator> analytic_estimator(Strategy s) {
     case Strategy::kCosineHemisphere: return analytic::Estimator::kCosineHemisphere;
     case Strategy::kBsdf: return analytic::Estimator::kCosineHemisphere;
     case Strategy::kLightArea: return analytic::Estimator::kLightArea;
+    case Strategy::kLightSolidAngle: return analytic::Estimator::kLightSolidAngle;
+    case Strategy::kMisBalance: return analytic::Estimator::kMisBalance;
+    case Strategy::kMisPower: return analytic::Estimator::kMisPower;
     default: return std::nullopt;
   }
 }

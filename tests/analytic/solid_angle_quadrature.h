@@ -111,7 +111,20 @@ inline double sphere_projected_solid_angle(const Vec3& center, double R, const V
 // centre to p (facing p: ϑ < acos(R/D)), dA = R² sin ϑ dϑ dφ; the horizon's
 // kink in φ is avoided by integrating the positive part between the roots of
 // n·(x − p) = 0, which is A + B cos φ + C sin φ on each ring.
+template <class Weight>
+double sphere_surface_integral(const Vec3& center, double R, const Vec3& n, Weight weight);
+
 inline double sphere_area_kernel_quadrature(const Vec3& center, double R, const Vec3& n) {
+  return sphere_surface_integral(center, R, n, [](double c, double c_light, double r) {
+    const double g = c * c_light / (r * r);
+    return g * g;
+  });
+}
+
+// ∫ over the sphere's surface points facing p (and above p's horizon) of
+// weight(max(cos θ, 0), cos θ', r) dA, by the parametrisation described above.
+template <class Weight>
+double sphere_surface_integral(const Vec3& center, double R, const Vec3& n, Weight weight) {
   using boost::math::quadrature::gauss_kronrod;
   const double D = length(center);
   const Vec3 axis = -center / D;  // from the centre towards p (p at the origin)
@@ -124,10 +137,9 @@ inline double sphere_area_kernel_quadrature(const Vec3& center, double R, const 
     auto f = [&](double phi) {
       const Vec3 x = point(phi);
       const Vec3 normal = (x - center) / R;
-      const double r2 = length_squared(x), r = std::sqrt(r2);
+      const double r = std::sqrt(length_squared(x));
       const double c = std::fmax(dot(n, x), 0.0) / r, c_light = std::fmax(-dot(normal, x), 0.0) / r;
-      const double g = c * c_light / r2;
-      return g * g;
+      return weight(c, c_light, r);
     };
     // n·x = A + B cos φ + C sin φ = A + M cos(φ − φ0).
     const double A = dot(n, center + axis * (R * cv));
