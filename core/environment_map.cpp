@@ -25,10 +25,11 @@ namespace {
 // Largest width or height accepted: the scene loader's resolution limit.
 constexpr long kMaxDimension = 16384;
 
-// OpenEXR's messages sometimes end with a period and sometimes not; the
-// error sentence must end with exactly one.
+// OpenEXR's messages sometimes end with a period and sometimes not, and some
+// hold two sentences; the error must be one sentence ending with one period.
 std::string as_sentence_end(std::string text) {
   while (!text.empty() && (text.back() == '.' || text.back() == ' ')) text.pop_back();
+  for (size_t at = text.find(". "); at != std::string::npos; at = text.find(". ", at)) text.replace(at, 2, "; ");
   return text + ".";
 }
 
