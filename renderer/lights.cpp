@@ -35,6 +35,10 @@ LightSet::LightSet(const Scene& scene) {
   for (size_t i = 0; i < scene.objects.size(); ++i)
     if (scene.objects[i].is_emitter()) emitters.push_back(i);
   environment = scene.environment.radiance > 0;
+  if (environment && scene.environment.map) {
+    environment_sampler = std::make_shared<const EnvironmentSampler>(scene.environment.map);
+    environment = environment_sampler->has_power();  // a black map sends no light
+  }
 }
 
 size_t LightSet::select(double u) const {

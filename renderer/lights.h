@@ -4,10 +4,12 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include "core/scene.h"
+#include "renderer/environment_sampler.h"
 
 namespace furnace {
 
@@ -41,6 +43,8 @@ struct LightSet {
 
   std::vector<size_t> emitters;  // object indices
   bool environment = false;
+  // Importance sampling of an image-based environment (empty for a constant one).
+  std::shared_ptr<const EnvironmentSampler> environment_sampler;
 
   size_t count() const { return emitters.size() + (environment ? 1 : 0); }
   double selection_pmf() const { return count() > 0 ? 1.0 / double(count()) : 0.0; }

@@ -52,6 +52,7 @@ constexpr DefectInfo kDefects[] = {
     {Defect::kRouletteNoReweight, "roulette_no_reweight"},
     {Defect::kDoubleCountEmission, "double_count_emission"},
     {Defect::kMisUnnormalisedWeight, "mis_unnormalised_weight"},
+    {Defect::kEnvMissingSinTheta, "env_missing_sin_theta"},
 };
 
 bool is_path_tracer(Strategy s) { return s == Strategy::kPathNaive || s == Strategy::kPathMis; }
@@ -162,7 +163,7 @@ Image render(const Scene& scene, const RenderOptions& options) {
       // The camera ray is the same for every sample of the pixel: trace it once.
       ++c.rays;
       const std::optional<SurfaceHit> hit = rtc_scene.intersect(ray.origin, ray.direction);
-      const double le = emitted_radiance_towards(scene, hit);
+      const double le = emitted_radiance_towards(scene, hit, ray.direction);
       std::optional<ShadingContext> ctx;
       if (hit) ctx = ShadingContext::at(*hit, -ray.direction, scene.objects[hit->object].material);
       PixelMoments& moments = image.pixels[pixel];

@@ -40,6 +40,8 @@ enum class Defect {
                         //   weight 1 as well as the light sample's MIS-weighted share (emission counted twice)
   kMisUnnormalisedWeight,  // "mis_unnormalised_weight": mis_balance/mis_power divide by the larger density
                            //   instead of the sum (weights p_a^β/max(p_a, p_b)^β sum to more than 1)
+  kEnvMissingSinTheta,  // "env_missing_sin_theta": environment-map sampling chooses rows ∝ Σ L·Δφ·Δθ (the sin θ
+                        //   Jacobian forgotten) while its weight uses the stated density L/Σ L·Ω
 };
 
 std::string strategy_name(Strategy s);
