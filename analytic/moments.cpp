@@ -10,6 +10,7 @@
 #include "analytic/light_moments.h"
 #include "analytic/planar_light.h"
 #include "analytic/environment.h"
+#include "analytic/environment_map.h"
 #include "analytic/reference.h"
 
 namespace furnace::analytic {
@@ -97,7 +98,7 @@ double emitter_kernel(Estimator estimator, const Scene& scene, size_t i, const V
 double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, const Vec3& n,
                      std::optional<size_t> receiver) {
   // Lights a light-sampling estimator picks among (uniformly).
-  size_t light_count = scene.environment.radiance > 0 ? 1 : 0;
+  size_t light_count = environment_is_light(scene.environment) ? 1 : 0;
   for (const Object& o : scene.objects) light_count += o.is_emitter() ? 1 : 0;
 
   double moment = 0;
@@ -118,7 +119,13 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
     }
   }
   const double e_env = environment_irradiance(scene, p, n, receiver);
-  if (e_env > 0) {
+  if (e_env > 0 && scene.environment.map) {  // unblocked (environment_irradiance refuses blockers)
+    switch (estimator) {
+      case Estimator::kUniformHemisphere: moment += map_uniform_hemisphere_moment(scene.environment, n); break;
+      case Estimator::kCosineHemisphere: moment += map_cosine_moment(scene.environment, n); break;
+      case Estimator::kLightArea: moment += map_light_sampling_moment(scene.environment, n, light_count); break;
+    }
+  } else if (e_env > 0) {
     const double l_env = scene.environment.radiance;
     switch (estimator) {
       case Estimator::kUniformHemisphere: {
@@ -142,7 +149,7 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
 double pixel_center_second_moment(Estimator estimator, const Scene& scene, int px, int py) {
   const Camera::Ray ray = scene.camera.pixel_center_ray(px, py);
   const std::optional<Hit> hit = intersect(scene, ray.origin, ray.direction);
-  if (!hit) return scene.environment.radiance * scene.environment.radiance;
+  if (!hit) return std::pow(environment_radiance(scene.environment, ray.direction), 2);
   const Object& object = scene.objects[hit->object_index];
   const double cos_view = dot(ray.direction, hit->normal);
   const double le = (cos_view < 0 || object.two_sided) ? object.emitted_radiance : 0.0;
