@@ -37,7 +37,9 @@ enum class EmitterSampling {
 };
 
 // Choose a light uniformly among LightSet, then sample it: an emitter by
-// EmitterSampling, the environment by cosine-weighted directions.
+// EmitterSampling, a constant environment by cosine-weighted directions, an
+// environment map by its texels' importance (environment_sampler.h; directions
+// below the receiver's horizon get weight 0).
 struct LightStrategy {
   const EmbreeScene* scene = nullptr;
   const LightSet* lights = nullptr;

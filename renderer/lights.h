@@ -1,6 +1,6 @@
 // Light sources: the scene's emitters (one-sided, Lambertian) plus the
-// constant environment when its radiance is positive, and the sampling of
-// points on their shapes.
+// environment when its radiance is positive (and, for a map, some texel is),
+// and the sampling of points on their shapes.
 #pragma once
 
 #include <cstddef>
