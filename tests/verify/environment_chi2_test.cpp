@@ -1,7 +1,9 @@
 // Chi-square goodness of fit of the environment-map sampler
 // (renderer/environment_sampler.h) against its own pdf, on the committed
 // scenes/environment_map.exr and on synthetic maps (constant, one hot texel,
-// black rows); its normalisation; the agreement of sample() with pdf(); and
+// black rows); its normalisation (∫pdf = 1 by the exact texel sum, and the
+// mean of 1/pdf against the support's solid angle); the agreement of
+// sample() with pdf(); and
 // the negative control DEFECT(env_missing_sin_theta), which must fail.
 //
 // Cells: every texel split into kSplit × kSplit cells of equal steps in φ and
@@ -17,6 +19,7 @@
 // family-wise level kFamilyAlpha by the Šidák correction, and the negative
 // control runs at the same per-test level. Each test prints its statistic,
 // p-value and detectable effect (Cohen's w at kDefaultPower).
+#include <boost/math/distributions/normal.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -168,6 +171,38 @@ TEST_P(EnvironmentSamplerChi2, SampleCarriesPdfOfItsDirection) {
     ASSERT_GT(texel, 0.0);
     EXPECT_NEAR(e->pdf_solid_angle, texel / sum, 1e-12 * texel / sum);
   }
+}
+
+// The mean of 1/pdf over samples estimates the measure of the support,
+// Σ_{L_ij > 0} Ω_ij (STYLE.md battery item 3): a z-test with the sample
+// standard deviation at the same per-test level as the chi-square (for the
+// constant map 1/pdf = 4π exactly and the check is exact up to round-off).
+TEST_P(EnvironmentSamplerChi2, MeanInversePdfIsSupportSolidAngle) {
+  const auto map = GetParam().make();
+  const EnvironmentSampler sampler(map);
+  double support = 0;
+  for (int i = 0; i < map->height; ++i)
+    for (int j = 0; j < map->width; ++j)
+      if (map->texel(i, j) > 0)
+        support += (2 * kPi / map->width) * (cos_edge(i, map->height) - cos_edge(i + 1, map->height));
+  constexpr size_t kInversePdfSamples = 200000;
+  double mean = 0, m2 = 0;
+  for (size_t s = 0; s < kInversePdfSamples; ++s) {
+    Rng rng(kSeed, 4, s);
+    const double u1 = rng.next_double(), u2 = rng.next_double();
+    const auto e = sampler.sample(u1, u2);
+    ASSERT_TRUE(e.has_value());
+    const double y = 1.0 / e->pdf_solid_angle, delta = y - mean;
+    mean += delta / double(s + 1);
+    m2 += delta * (y - mean);
+  }
+  const double standard_error = std::sqrt(m2 / double(kInversePdfSamples - 1) / double(kInversePdfSamples));
+  const double alpha = stats::sidak_alpha(kFamilyAlpha, kCorrectMaps);
+  const double critical = boost::math::quantile(boost::math::normal(), 1 - alpha / 2);
+  std::printf("%-10s mean 1/pdf %.6f support %.6f standard error %.3g\n", GetParam().name.c_str(), mean, support,
+              standard_error);
+  if (standard_error <= 1e-12 * support) EXPECT_NEAR(mean, support, 1e-12 * support);
+  else EXPECT_LT(std::fabs(mean - support) / standard_error, critical);
 }
 
 INSTANTIATE_TEST_SUITE_P(Maps, EnvironmentSamplerChi2,
