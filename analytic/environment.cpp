@@ -6,6 +6,7 @@
 
 #include "analytic/disk.h"
 #include "analytic/disk_light.h"
+#include "analytic/environment_map.h"
 #include "analytic/occlusion.h"
 #include "analytic/polygon.h"
 #include "analytic/sphere.h"
@@ -68,6 +69,14 @@ std::vector<size_t> environment_blockers(const Scene& scene, const Vec3& p, cons
 
 double environment_irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optional<size_t> receiver) {
   if (!(scene.environment.radiance > 0)) return 0.0;
+  if (scene.environment.map) {
+    // The map references (environment_map.h) assume an unblocked sky.
+    for (size_t j = 0; j < scene.objects.size(); ++j)
+      if (!(receiver && j == *receiver) && height_range(scene.objects[j].shape, p, n).hi > 0)
+        unsupported_configuration(scene, "the environment map '" + scene.environment.map_file +
+                                             "' blocked by the object '" + scene.objects[j].name + "'");
+    return scene.environment.radiance * map_irradiance(*scene.environment.map, n);
+  }
   double blocked = 0;
   for (size_t j : environment_blockers(scene, p, n, receiver)) blocked += projected_solid_angle(scene, j, p, n);
   return scene.environment.radiance * std::fmax(kPi - blocked, 0.0);

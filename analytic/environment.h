@@ -34,6 +34,9 @@ std::vector<size_t> environment_blockers(const Scene& scene, const Vec3& p, cons
 // objects) when two blockers may overlap, when p lies in a blocker's bounding
 // ball while another blocker exists, or when a blocker has no closed form.
 // 0 when L_env = 0. Units: W·m⁻² (those of L_env times sr).
+// With an environment map: L_env·map_irradiance(map, n) (environment_map.h)
+// when no object other than `receiver` rises above p's horizon; throws
+// furnace::Error naming the map and the object otherwise.
 double environment_irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optional<size_t> receiver);
 
 }  // namespace furnace::analytic

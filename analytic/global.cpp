@@ -114,6 +114,14 @@ Classification classify(const Scene& scene, int max_segments) {
   }
   bool any_emitter = !scene.point_lights.empty();
   for (const Object& o : scene.objects) any_emitter = any_emitter || o.is_emitter();
+  if (scene.environment.map) {
+    // Under a map no furnace closed form holds; a single planar reflector
+    // sees no other surface, so its global illumination is direct lighting.
+    if (reflecting <= 1 && reflecting_planar) return {Kind::kDirectOnly, 0, 0};
+    no_closed_form(scene, fmt::format("the environment map '{}' lights more than one reflecting object (or a "
+                                      "reflecting sphere)",
+                                      scene.environment.map_file));
+  }
   if (scene.environment.radiance > 0 && !any_emitter) {
     if (!uniform) no_closed_form(scene, "a furnace needs one albedo on every object");
     const double rho = albedo.value_or(0);
@@ -169,7 +177,7 @@ std::vector<double> global_reference_image(const Scene& scene, int max_segments)
         if (chain > kMaxMirrorChain) no_closed_form(scene, "a camera ray is trapped between mirrors");
         const std::optional<Hit> hit = intersect(scene, ray.origin, ray.direction, t_min);
         if (!hit) {
-          value = throughput * scene.environment.radiance;
+          value = throughput * environment_radiance(scene.environment, ray.direction);
           break;
         }
         const Object& o = scene.objects[hit->object_index];

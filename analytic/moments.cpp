@@ -15,6 +15,8 @@
 #include "analytic/light_moments.h"
 #include "analytic/planar_light.h"
 #include "analytic/environment.h"
+#include "analytic/adaptive_quadrature.h"
+#include "analytic/environment_map.h"
 #include "analytic/reference.h"
 
 namespace furnace::analytic {
@@ -194,13 +196,15 @@ std::vector<std::pair<double, double>> positive_arcs(double A, double B, double 
 }
 
 constexpr double kMisQuadratureTolerance = 1e-10;
-constexpr unsigned kMisQuadratureDepth = 15;
+constexpr int kMisQuadratureDepth = 15;
 
 // ∫ g(cos θ, p_light) dω over a family of rings: outer u ∈ [u0, u1] (split
 // at `kinks`, where the horizon starts to cut the rings), inner φ over the
 // arcs where cos θ = A + B cos φ + C sin φ > 0 (ring.coefficients); ring.at
 // gives cos θ, p_light and the measure dω/(du dφ) at (u, φ). Gauss–Kronrod
-// (31 points), adaptive, relative tolerance kMisQuadratureTolerance.
+// (31 points), adaptive (adaptive_quadrature.h: Boost's own recursion never
+// terminates on the tiny intervals of a far sphere's cone), relative
+// tolerance kMisQuadratureTolerance.
 template <class Ring, class Integrand>
 double ring_integral(double u0, double u1, const std::vector<double>& kinks, Ring ring, Integrand g) {
   using boost::math::quadrature::gauss_kronrod;
@@ -214,7 +218,7 @@ double ring_integral(double u0, double u1, const std::vector<double>& kinks, Rin
         ring.at(u, phi, &cos_theta, &p_light, &measure);
         return cos_theta > 0 ? g(cos_theta, p_light) * measure : 0.0;
       };
-      sum += gauss_kronrod<double, 31>::integrate(inner, lo, hi, kMisQuadratureDepth, kMisQuadratureTolerance);
+      sum += adaptive_gauss_kronrod_relative(inner, lo, hi, kMisQuadratureTolerance, kMisQuadratureDepth);
     }
     return sum;
   };
@@ -224,8 +228,7 @@ double ring_integral(double u0, double u1, const std::vector<double>& kinks, Rin
   std::sort(cuts.begin(), cuts.end());
   double total = 0;
   for (size_t i = 0; i + 1 < cuts.size(); ++i)
-    total += gauss_kronrod<double, 31>::integrate(outer, cuts[i], cuts[i + 1], kMisQuadratureDepth,
-                                                  kMisQuadratureTolerance);
+    total += adaptive_gauss_kronrod_relative(outer, cuts[i], cuts[i + 1], kMisQuadratureTolerance, kMisQuadratureDepth);
   return total;
 }
 
@@ -393,9 +396,9 @@ double mis_second_moment(const Scene& scene, const Vec3& p, const Vec3& n, std::
 double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, const Vec3& n,
                      std::optional<size_t> receiver, LightSelection selection) {
   if (estimator == Estimator::kMisBalance || estimator == Estimator::kMisPower) {
-    // mis_second_moment models uniform selection among emitters and the sky.
-    if (selection != LightSelection::kUniform || !scene.point_lights.empty())
-      unsupported_configuration(scene, "MIS with point lights or power-proportional light selection");
+    // mis_second_moment models uniform selection among emitters and a constant sky.
+    if (selection != LightSelection::kUniform || !scene.point_lights.empty() || scene.environment.map)
+      unsupported_configuration(scene, "MIS with point lights, an environment map or power-proportional light selection");
     return mis_second_moment(scene, p, n, receiver, estimator == Estimator::kMisBalance ? 1 : 2);
   }
   // Selection pmf of every light (emitters, point lights, environment), and
@@ -431,7 +434,19 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
   }
   moment += point_lights_second_moment(estimator, scene, p, n, receiver, pmf);
   const double e_env = environment_irradiance(scene, p, n, receiver);
-  if (e_env > 0) {
+  if (e_env > 0 && scene.environment.map) {  // unblocked (environment_irradiance refuses blockers)
+    switch (estimator) {
+      case Estimator::kUniformHemisphere: moment += map_uniform_hemisphere_moment(scene.environment, n); break;
+      case Estimator::kCosineHemisphere: moment += map_cosine_moment(scene.environment, n); break;
+      case Estimator::kLightArea:  // the map's texel sampling, chosen with pmf P_env (last)
+      case Estimator::kLightSolidAngle:
+        moment += map_light_sampling_moment(scene.environment, n, 1) / pmf.back();
+        break;
+      case Estimator::kMisBalance:
+      case Estimator::kMisPower:
+        break;  // refused above
+    }
+  } else if (e_env > 0) {
     const double l_env = scene.environment.radiance;
     switch (estimator) {
       case Estimator::kUniformHemisphere: {
@@ -459,7 +474,7 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
 double pixel_center_second_moment(Estimator estimator, const Scene& scene, int px, int py, LightSelection selection) {
   const Camera::Ray ray = scene.camera.pixel_center_ray(px, py);
   const std::optional<Hit> hit = intersect(scene, ray.origin, ray.direction);
-  if (!hit) return scene.environment.radiance * scene.environment.radiance;
+  if (!hit) return std::pow(environment_radiance(scene.environment, ray.direction), 2);
   const Object& object = scene.objects[hit->object_index];
   const double cos_view = dot(ray.direction, hit->normal);
   const double le = (cos_view < 0 || object.two_sided) ? object.emitted_radiance : 0.0;

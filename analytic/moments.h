@@ -35,7 +35,8 @@ enum class Estimator {
   // when its radiance is positive, sampled cosine-weighted), then a point x
   // uniform on the chosen emitter's area A, p_A = 1/A:
   //   Y = K·L·V·cos θ·cos θ'/r²·A,  E[Y²] = Σ_lights K·A·L² ∫_visible (cos θ cos θ'/r²)² dA
-  //   (+ K·π·L_env·E_env for the environment).
+  //   (+ K·π·L_env·E_env for the environment; an environment map is
+  //   importance-sampled instead, see environment_map.h).
   kLightArea,
   // Appended (never renumber the above). The renderer's light_solid_angle:
   // one light chosen uniformly (K as for kLightArea), then a direction

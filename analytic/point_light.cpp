@@ -5,6 +5,7 @@
 #include <limits>
 #include <variant>
 
+#include "analytic/environment_map.h"
 #include "analytic/intersect.h"
 
 namespace furnace::analytic {
@@ -78,9 +79,12 @@ std::vector<double> light_selection_pmf(const Scene& scene, LightSelection selec
   for (const Object& o : scene.objects)
     if (o.is_emitter()) power.push_back((o.two_sided ? 2 * kPi : kPi) * o.emitted_radiance * shape_area(o.shape));
   for (const PointLight& l : scene.point_lights) power.push_back(4 * kPi * l.intensity);
-  if (scene.environment.radiance > 0) {
+  if (environment_is_light(scene.environment)) {
+    // A map radiates like a constant sky of its mean radiance L·Σ map·Ω/(4π).
+    const double mean =
+        scene.environment.map ? map_solid_angle_integral(*scene.environment.map) / (4 * kPi) : 1.0;
     const double r = bounding_radius(scene);
-    power.push_back(scene.environment.radiance * kPi * (kPi * r * r));
+    power.push_back(scene.environment.radiance * mean * kPi * (kPi * r * r));
   }
   double total = 0;
   for (double p : power) total += p;

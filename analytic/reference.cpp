@@ -45,7 +45,7 @@ double pixel_center_radiance(const Scene& scene, int px, int py) {
 double ray_radiance(const Scene& scene, const Vec3& origin, const Vec3& direction) {
   const Camera::Ray ray{origin, direction};
   const std::optional<Hit> hit = intersect(scene, ray.origin, ray.direction);
-  if (!hit) return scene.environment.radiance;
+  if (!hit) return environment_radiance(scene.environment, ray.direction);
   const Object& object = scene.objects[hit->object_index];
   const double cos_view = dot(ray.direction, hit->normal);
   // Emission leaves the front face only, both faces of a two_sided object.

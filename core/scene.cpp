@@ -194,7 +194,22 @@ Scene parse_scene(const std::string& json_text, const std::string& source) {
   scene.name = top.has("name") ? top.string("name") : std::filesystem::path(source).stem().string();
   scene.camera = parse_camera(top.object("camera"));
   scene.closed = top.boolean_or("closed", false);
-  if (top.has("environment")) scene.environment.radiance = top.object("environment").non_negative_or("radiance", 0.0);
+  if (top.has("environment")) {
+    const Reader env = top.object("environment");
+    scene.environment.radiance = env.non_negative_or("radiance", 0.0);
+    if (env.has("map")) {
+      // Relative to the scene file's directory.
+      const std::filesystem::path map_path = std::filesystem::path(source).parent_path() / env.string("map");
+      try {
+        scene.environment.map = std::make_shared<const LatLongMap>(load_latlong_exr(map_path));
+      } catch (const Error& e) {
+        std::string reason = e.what();  // one sentence: joined into this one without its period
+        if (!reason.empty() && reason.back() == '.') reason.pop_back();
+        env.fail("map", fmt::format("is '{}', but {}", env.string("map"), reason));
+      }
+      scene.environment.map_file = map_path.string();
+    }
+  }
   const json& objects = top.require("objects");
   if (!objects.is_array()) top.fail("objects", "must be an array");
   for (size_t i = 0; i < objects.size(); ++i) {

@@ -5,11 +5,13 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <variant>
 #include <vector>
 
+#include "core/environment_map.h"
 #include "core/vec3.h"
 
 namespace furnace {
@@ -66,9 +68,13 @@ struct Object {
   bool is_emitter() const { return emitted_radiance > 0; }
 };
 
-// Constant radiance arriving from every direction not blocked by geometry.
+// Radiance arriving from every direction not blocked by geometry: the
+// constant `radiance`, or, when `map` is set, radiance·map(ω) (an image-based
+// environment, core/environment_map.h; directions in world space, z up).
 struct Environment {
   double radiance = 0;
+  std::shared_ptr<const LatLongMap> map;  // empty: constant environment
+  std::string map_file;                   // the map's path as loaded, for messages
 };
 
 // An isotropic point light (a delta light: no ray can hit it): radiant
@@ -79,6 +85,12 @@ struct PointLight {
   Vec3 position;
   double intensity = 0;
 };
+
+// THE miss radiance along unit direction `dir` (every reader of the
+// environment goes through it): radiance·map(dir) with a map, else radiance.
+inline double environment_radiance(const Environment& environment, const Vec3& dir) {
+  return environment.map ? environment.radiance * environment.map->lookup(dir) : environment.radiance;
+}
 
 // Orthographic camera: one ray per pixel centre, all parallel to `forward`,
 // starting on the image plane through `center`. Pixel (0,0) is the top-left:

@@ -89,7 +89,7 @@ double DirectLighting::estimate_direction(const DirectionStrategy& strategy, con
   const auto s = strategy.sample(ctx, next_uniform3(rng));
   if (!s || s->weight == 0) return 0.0;  // nothing to trace for a zero weight
   const auto hit = trace_from(scene_, ctx, s->wi_world, counters);
-  return s->weight * emitted_radiance_towards(scene_.scene(), hit);
+  return s->weight * emitted_radiance_towards(scene_.scene(), hit, s->wi_world);
 }
 
 double DirectLighting::estimate_light(const ShadingContext& ctx, Rng& rng, TraceCounters& counters) const {
@@ -104,7 +104,7 @@ double DirectLighting::estimate_mis(const ShadingContext& ctx, Rng& rng, TraceCo
   // One BSDF sample, weighted against the light strategy's density for the same direction.
   if (const auto s = bsdf.sample(ctx, next_uniform3(rng)); s && s->weight != 0) {
     const auto hit = trace_from(scene_, ctx, s->wi_world, counters);
-    const double le = emitted_radiance_towards(scene_.scene(), hit);
+    const double le = emitted_radiance_towards(scene_.scene(), hit, s->wi_world);
     if (le > 0) {
       const double w =
           s->delta ? 1.0 : mis_weights({s->pdf_solid_angle, light_.pdf(ctx, s->wi_world, hit)}, beta, defect_).w_bsdf;
@@ -134,7 +134,7 @@ double DirectLighting::estimate_one_sample(const ShadingContext& ctx, Rng& rng, 
     const auto s = bsdf.sample(ctx, next_uniform3(rng));
     if (!s || s->weight == 0) return 0.0;
     const auto hit = trace_from(scene_, ctx, s->wi_world, counters);
-    const double le = emitted_radiance_towards(scene_.scene(), hit);
+    const double le = emitted_radiance_towards(scene_.scene(), hit, s->wi_world);
     if (!(le > 0)) return 0.0;
     // A delta lobe: only this strategy covers it, chosen with probability c.
     if (s->delta) return s->weight * le / c;

@@ -53,12 +53,14 @@ struct DirectionSample {
   bool delta = false;
 };
 
-// Radiance arriving along a ray that found `hit` (or nothing): emission of a
-// front-facing emitter, the environment on a miss, 0 otherwise. Emitters are
+// Radiance arriving along a ray of unit direction `direction` that found `hit`
+// (or nothing): emission of a front-facing emitter, the environment along
+// `direction` on a miss, 0 otherwise. Emitters are
 // one-sided: they emit along their front normal (spheres: outward), unless
 // the object is two_sided, which emits the same radiance from both sides.
-inline double emitted_radiance_towards(const Scene& scene, const std::optional<SurfaceHit>& hit) {
-  if (!hit) return scene.environment.radiance;
+inline double emitted_radiance_towards(const Scene& scene, const std::optional<SurfaceHit>& hit,
+                                       const Vec3& direction) {
+  if (!hit) return environment_radiance(scene.environment, direction);
   const Object& o = scene.objects[hit->object];
   return hit->front_facing || o.two_sided ? o.emitted_radiance : 0.0;
 }

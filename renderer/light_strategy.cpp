@@ -156,15 +156,26 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     return s;
   }
   if (lights->is_environment(light)) {
-    // The environment: cosine-weighted directions (its exact density for a constant sky).
-    const Vec3 wi_local = sample_cosine_hemisphere(u[1], u[2]);
-    s.wi_world = ctx.frame.world_from_local(wi_local);
-    s.pdf_solid_angle = pmf * cosine_hemisphere_pdf(wi_local);
-    s.radiance = scene->scene().environment.radiance;
+    double environment_pdf = 0;  // density in solid angle, selection pmf excluded
+    if (const EnvironmentSampler* map = lights->environment_sampler.get()) {
+      // An image-based environment: its texels by importance (environment_sampler.h);
+      // directions below the horizon get weight 0 from the cosine below.
+      const auto e = map->sample(u[1], u[2], defect);  // DEFECT(env_missing_sin_theta) inside
+      if (!e) return std::nullopt;
+      s.wi_world = e->wi_world;
+      environment_pdf = e->pdf_solid_angle;
+    } else {
+      // A constant environment: cosine-weighted directions (its exact density).
+      const Vec3 wi_local = sample_cosine_hemisphere(u[1], u[2]);
+      s.wi_world = ctx.frame.world_from_local(wi_local);
+      environment_pdf = cosine_hemisphere_pdf(wi_local);
+    }
+    s.pdf_solid_angle = pmf * environment_pdf;
+    s.radiance = environment_radiance(scene->scene().environment, s.wi_world);
     s.shadow_origin = scene->spawn_origin(ctx.object, ctx.point, ctx.normal, s.wi_world);
     s.shadow_direction = s.wi_world;
     s.shadow_t_max = std::numeric_limits<double>::infinity();
-    pdf_for_weight = pmf_in_weight * cosine_hemisphere_pdf(wi_local);
+    pdf_for_weight = pmf_in_weight * environment_pdf;
   } else {
     const size_t object = lights->emitters[light];
     const Object& emitter = scene->scene().objects[object];
@@ -204,9 +215,12 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
 double LightStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_world, const std::optional<SurfaceHit>& hit) const {
   if (lights->count() == 0) return 0.0;
   // Point lights are never found by a ray: only emitters and the environment have a density here.
-  if (!hit)
-    return lights->environment ? lights->pmf(lights->count() - 1) * cosine_hemisphere_pdf(ctx.frame.local_from_world(wi_world))
-                               : 0.0;
+  if (!hit) {
+    if (!lights->environment) return 0.0;
+    const double pmf = lights->pmf(lights->count() - 1);
+    if (const EnvironmentSampler* map = lights->environment_sampler.get()) return pmf * map->pdf_solid_angle(wi_world);
+    return pmf * cosine_hemisphere_pdf(ctx.frame.local_from_world(wi_world));
+  }
   const double pmf = lights->pmf(lights->light_of_object(hit->object));
   const Object& o = scene->scene().objects[hit->object];
   if (!o.is_emitter() || !(hit->front_facing || o.two_sided)) return 0.0;

@@ -40,9 +40,11 @@ enum class EmitterSampling {
 };
 
 // Choose a light among LightSet by its pmf, then sample it: an emitter by
-// EmitterSampling, the environment by cosine-weighted directions, a point
-// light by the direction to it (a delta sample: pdf 0, weight f·cos θi/pmf,
-// radiance I/r²). pdf() never gives a point light a density: no ray hits one.
+// EmitterSampling, a constant environment by cosine-weighted directions, an
+// environment map by its texels' importance (environment_sampler.h; directions
+// below the receiver's horizon get weight 0), a point light by the direction
+// to it (a delta sample: pdf 0, weight f·cos θi/pmf, radiance I/r²). pdf()
+// never gives a point light a density: no ray hits one.
 struct LightStrategy {
   const EmbreeScene* scene = nullptr;
   const LightSet* lights = nullptr;

@@ -72,6 +72,10 @@ LightSet::LightSet(const Scene& scene, LightSelection selection_) : selection(se
     if (scene.objects[i].is_emitter()) emitters.push_back(i);
   for (size_t i = 0; i < scene.point_lights.size(); ++i) point_lights.push_back(i);
   environment = scene.environment.radiance > 0;
+  if (environment && scene.environment.map) {
+    environment_sampler = std::make_shared<const EnvironmentSampler>(scene.environment.map);
+    environment = environment_sampler->has_power();  // a black map sends no light
+  }
 
   // Emitted powers (lights.h states the conventions).
   for (size_t i : emitters) {
@@ -80,8 +84,10 @@ LightSet::LightSet(const Scene& scene, LightSelection selection_) : selection(se
   }
   for (size_t i : point_lights) power_.push_back(4 * kPi * scene.point_lights[i].intensity);
   if (environment) {
+    // A map radiates like a constant sky of its mean radiance L·Σ map·Ω/(4π).
+    const double mean = environment_sampler ? environment_sampler->integral() / (4 * kPi) : 1.0;
     const double r = scene_bounding_radius(scene);
-    power_.push_back(kPi * scene.environment.radiance * kPi * r * r);
+    power_.push_back(kPi * scene.environment.radiance * mean * kPi * r * r);
   }
   if (count() == 0) return;
   double total = 0;

@@ -1,14 +1,17 @@
 // Light sources: the scene's emitters (one-sided, Lambertian), its point
-// lights, and the constant environment when its radiance is positive; the
-// selection pmf among them and the sampling of points on their shapes.
+// lights, and the environment when its radiance is positive (and, for a map,
+// some texel is); the selection pmf among them and the sampling of points on
+// their shapes.
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include "core/scene.h"
 #include "renderer/render.h"
+#include "renderer/environment_sampler.h"
 
 namespace furnace {
 
@@ -59,6 +62,8 @@ struct LightSet {
   std::vector<size_t> point_lights;   // indices into Scene::point_lights
   bool environment = false;
   LightSelection selection = LightSelection::kUniform;
+  // Importance sampling of an image-based environment (empty for a constant one).
+  std::shared_ptr<const EnvironmentSampler> environment_sampler;
 
   size_t count() const { return emitters.size() + point_lights.size() + (environment ? 1 : 0); }
   bool is_emitter(size_t light) const { return light < emitters.size(); }

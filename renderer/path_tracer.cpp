@@ -35,7 +35,7 @@ double PathTracer::radiance(const Vec3& direction, const std::optional<SurfaceHi
 
   for (int depth = 1;; ++depth) {
     // Emission reached by the segment just traced.
-    const double le = emitted_radiance_towards(scene, hit);
+    const double le = emitted_radiance_towards(scene, hit, wi_world);
     if (le > 0) {
       double w = 1;
       // DEFECT(double_count_emission): weight 1 here although the light sample also counts this emission.

@@ -56,6 +56,7 @@ constexpr DefectInfo kDefects[] = {
     {Defect::kPointLightMisWeighted, "point_light_mis_weighted"},
     {Defect::kPowerSelectionUniformPmf, "power_selection_uniform_pmf"},
     {Defect::kOneSampleNoSelectionProb, "one_sample_no_selection_prob"},
+    {Defect::kEnvMissingSinTheta, "env_missing_sin_theta"},
 };
 
 bool is_path_tracer(Strategy s) { return s == Strategy::kPathNaive || s == Strategy::kPathMis; }
@@ -179,7 +180,7 @@ Image render(const Scene& scene, const RenderOptions& options) {
       // The camera ray is the same for every sample of the pixel: trace it once.
       ++c.rays;
       const std::optional<SurfaceHit> hit = rtc_scene.intersect(ray.origin, ray.direction);
-      const double le = emitted_radiance_towards(scene, hit);
+      const double le = emitted_radiance_towards(scene, hit, ray.direction);
       std::optional<ShadingContext> ctx;
       if (hit) ctx = ShadingContext::at(*hit, -ray.direction, scene.objects[hit->object].material);
       PixelMoments& moments = image.pixels[pixel];

@@ -49,6 +49,8 @@ enum class Defect {
                               //   the uniform pmf 1/K
   kOneSampleNoSelectionProb,  // "one_sample_no_selection_prob": mis_one_sample divides by p_bsdf + p_light,
                               //   forgetting the selection probabilities c and 1 − c
+  kEnvMissingSinTheta,  // "env_missing_sin_theta": environment-map sampling chooses rows ∝ Σ L·Δφ·Δθ (the sin θ
+                        //   Jacobian forgotten) while its weight uses the stated density L/Σ L·Ω
 };
 
 // How light-sampling strategies choose one light among the scene's lights.

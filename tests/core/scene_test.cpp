@@ -2,8 +2,22 @@
 // bad input is rejected with one sentence naming the file, field and value.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
 #include <string>
+#include <vector>
 
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <unistd.h>
+
+#include "core/environment_map.h"
 #include "core/error.h"
 #include "core/scene.h"
 
@@ -103,6 +117,138 @@ TEST(SceneLoader, MissingFileIsNamed) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent/scene.json"), std::string::npos);
   }
+}
+
+// ---------------------------------------------------------------------------
+// Image-based environments: "environment": {"radiance": L, "map": "file.exr"},
+// the map relative to the scene file's directory.
+
+// A scratch directory per test process, removed at the end of each test.
+class EnvironmentMapLoader : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() / ("furnace_env_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  // A scene file in dir_ whose environment uses `map_name`.
+  std::filesystem::path write_scene(const std::string& map_name) const {
+    std::string text = kValid;
+    const std::string from = "\"environment\": {\"radiance\": 0.25}";
+    text.replace(text.find(from), from.size(), "\"environment\": {\"radiance\": 0.25, \"map\": \"" + map_name + "\"}");
+    const auto path = dir_ / "scene.json";
+    std::ofstream(path) << text;
+    return path;
+  }
+
+  // An RGB FLOAT file with the given channel values (same size).
+  void write_rgb(const std::filesystem::path& path, int width, int height, std::vector<float> r, std::vector<float> g,
+                 std::vector<float> b) const {
+    Imf::Header header(width, height);
+    Imf::FrameBuffer frame;
+    const size_t stride = sizeof(float);
+    std::vector<float>* planes[] = {&r, &g, &b};
+    const char* names[] = {"R", "G", "B"};
+    for (int k = 0; k < 3; ++k) {
+      header.channels().insert(names[k], Imf::Channel(Imf::FLOAT));
+      frame.insert(names[k], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(planes[k]->data()), stride, stride * width));
+    }
+    Imf::OutputFile file(path.string().c_str(), header);
+    file.setFrameBuffer(frame);
+    file.writePixels(height);
+  }
+
+  // Loading the scene must fail with one sentence holding every fragment.
+  void expect_rejected(const std::filesystem::path& scene, const std::vector<std::string>& fragments) const {
+    try {
+      load_scene(scene);
+      FAIL() << "accepted " << scene;
+    } catch (const Error& e) {
+      const std::string msg = e.what();
+      for (const std::string& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << f << " not in: " << msg;
+      EXPECT_EQ(msg.back(), '.') << msg;
+      EXPECT_EQ(msg.find(". "), std::string::npos) << "one sentence: " << msg;
+    }
+  }
+
+  std::filesystem::path dir_;
+};
+
+TEST_F(EnvironmentMapLoader, LoadsGrayMapRelativeToTheSceneFile) {
+  LatLongMap map;
+  map.width = 4;
+  map.height = 2;
+  map.texels = {0, 1, 2, 3, 4, 5, 6, 7};
+  write_latlong_exr(dir_ / "sky.exr", map);
+  const Scene s = load_scene(write_scene("sky.exr"));
+  ASSERT_TRUE(s.environment.map);
+  EXPECT_EQ(s.environment.map->texels, map.texels);
+  EXPECT_EQ(s.environment.map_file, (dir_ / "sky.exr").string());
+  // Row 0 is the upper hemisphere (θ < π/2), columns follow φ = atan2(y, x) ∈ [0, 2π).
+  const double q = std::sqrt(0.5);
+  EXPECT_EQ(environment_radiance(s.environment, Vec3(q, 0.1, q)), 0.25 * 0);   // φ ≈ 0.1, θ = π/4
+  EXPECT_EQ(environment_radiance(s.environment, Vec3(-q, 0.1, q)), 0.25 * 1);  // φ ≈ π − 0.1
+  EXPECT_EQ(environment_radiance(s.environment, Vec3(-q, -0.1, q)), 0.25 * 2); // φ ≈ π + 0.1
+  EXPECT_EQ(environment_radiance(s.environment, Vec3(q, -0.1, -q)), 0.25 * 7); // φ ≈ 2π − 0.1, θ = 3π/4
+  EXPECT_EQ(environment_radiance(s.environment, Vec3(0, 0, 1)), 0.25 * 0);     // the pole: row 0, φ = 0
+  EXPECT_EQ(environment_radiance(s.environment, Vec3(0, 0, -1)), 0.25 * 4);    // θ = π clamps to the last row
+  // The constant environment is unchanged.
+  EXPECT_EQ(environment_radiance(parse_scene(kValid, "valid.json").environment, Vec3(0, 0, -1)), 0.25);
+}
+
+TEST_F(EnvironmentMapLoader, EqualRgbIsGray) {
+  write_rgb(dir_ / "rgb.exr", 2, 1, {0.5f, 2.0f}, {0.5f, 2.0f}, {0.5f, 2.0f});
+  const Scene s = load_scene(write_scene("rgb.exr"));
+  ASSERT_TRUE(s.environment.map);
+  EXPECT_EQ(s.environment.map->texels, (std::vector<double>{0.5, 2.0}));
+}
+
+TEST_F(EnvironmentMapLoader, RejectsMissingFile) {
+  expect_rejected(write_scene("nowhere.exr"),
+                  {"scene.json", "environment.map", "nowhere.exr", "does not exist"});
+}
+
+TEST_F(EnvironmentMapLoader, RejectsUnreadableFile) {
+  std::ofstream(dir_ / "junk.exr") << "not an OpenEXR file";
+  expect_rejected(write_scene("junk.exr"), {"scene.json", "environment.map", "junk.exr", "cannot read"});
+}
+
+TEST_F(EnvironmentMapLoader, RejectsNonGrayMap) {
+  write_rgb(dir_ / "color.exr", 2, 1, {0.5f, 2.0f}, {0.5f, 2.5f}, {0.5f, 2.0f});
+  expect_rejected(write_scene("color.exr"),
+                  {"scene.json", "environment.map", "color.exr", "row 0, column 1", "G = 2.5", "gray"});
+}
+
+TEST_F(EnvironmentMapLoader, RejectsNegativeTexel) {
+  LatLongMap map;
+  map.width = 3;
+  map.height = 2;
+  map.texels = {1, 1, 1, 1, -0.5, 1};
+  write_latlong_exr(dir_ / "negative.exr", map);
+  expect_rejected(write_scene("negative.exr"),
+                  {"scene.json", "environment.map", "negative.exr", "row 1, column 1", "'Y'", "-0.5"});
+}
+
+TEST_F(EnvironmentMapLoader, RejectsNonFiniteTexel) {
+  LatLongMap map;
+  map.width = 2;
+  map.height = 1;
+  map.texels = {std::numeric_limits<double>::infinity(), 1};
+  write_latlong_exr(dir_ / "inf.exr", map);
+  expect_rejected(write_scene("inf.exr"), {"environment.map", "inf.exr", "row 0, column 0", "inf"});
+}
+
+// The committed scenes/environment_map.exr is what scripts/make_environment_map.cpp writes.
+TEST_F(EnvironmentMapLoader, CommittedMapIsReproducibleFromItsGenerator) {
+  const auto regenerated = dir_ / "regenerated.exr";
+  const std::string command = std::string(FURNACE_MAKE_ENVIRONMENT_MAP) + " " + regenerated.string();
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  const LatLongMap committed = load_latlong_exr(std::string(FURNACE_SCENE_DIR) + "/environment_map.exr");
+  const LatLongMap fresh = load_latlong_exr(regenerated);
+  EXPECT_EQ(committed.width, fresh.width);
+  EXPECT_EQ(committed.height, fresh.height);
+  EXPECT_EQ(committed.texels, fresh.texels);
 }
 
 }  // namespace

@@ -104,7 +104,7 @@ WeightCensus weight_census(int beta, Defect defect) {
           // its density must be the sampler's. A ray from the spawn origin can
           // miss an emitter whose silhouette the sample grazed; counted apart.
           const bool environment_sample = std::isinf(s->shadow_t_max);
-          const bool visible = light_visible(rtc, *s, counters) && emitted_radiance_towards(scene, found) > 0;
+          const bool visible = light_visible(rtc, *s, counters) && emitted_radiance_towards(scene, found, s->wi_world) > 0;
           if (visible && environment_sample != !found.has_value()) ++census.silhouette_misses;
           if (visible && environment_sample == !found.has_value()) {
             ++census.pdf_checked;
@@ -185,7 +185,7 @@ TEST(MisVariance, BalanceRespectsVeachBound) {
     for (int px = 0; px < scene.camera.width_px; ++px) {
       const Camera::Ray ray = scene.camera.pixel_center_ray(px, py);
       const auto hit = rtc.intersect(ray.origin, ray.direction);
-      if (!hit || emitted_radiance_towards(scene, hit) > 0) continue;
+      if (!hit || emitted_radiance_towards(scene, hit, ray.direction) > 0) continue;
       if (scene.objects[hit->object].material.albedo == 0) continue;
       pixels.push_back(size_t(py) * scene.camera.width_px + px);
     }

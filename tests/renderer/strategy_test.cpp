@@ -218,8 +218,8 @@ TEST(LightStrategy, TwoSidedLightIsSampledFromBehindAndOneSidedIsNot) {
         const auto hit = trace_from(*two.rtc, two.context(), s->wi_world, counters);
         ASSERT_TRUE(hit.has_value());
         EXPECT_FALSE(hit->front_facing);
-        EXPECT_EQ(emitted_radiance_towards(two.scene, hit), 3.0);
-        EXPECT_EQ(emitted_radiance_towards(one.scene, hit), 0.0);
+        EXPECT_EQ(emitted_radiance_towards(two.scene, hit, s->wi_world), 3.0);
+        EXPECT_EQ(emitted_radiance_towards(one.scene, hit, s->wi_world), 0.0);
         EXPECT_NEAR(two_sided.pdf(two.context(), s->wi_world, hit) / s->pdf_solid_angle, 1.0, kTracedPdfRelTol);
       }
     }
