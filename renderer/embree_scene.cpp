@@ -154,10 +154,14 @@ void EmbreeDevice::on_error(void* user, RTCError code, const char* message) {
 // functions through the intersect context (Embree 3's documented extension:
 // the RTCIntersectContext comes first, the filter casts it back).
 struct EmbreeScene::RayQuery {
+  RayQuery(const EmbreeScene* scene_, const Vec3& origin_, const Vec3& direction_, double t_max_)
+      : scene(scene_), origin(origin_), direction(direction_), t_max(t_max_) {
+    rtcInitIntersectContext(&context);
+  }
   RTCIntersectContext context;
-  const EmbreeScene* scene = nullptr;
+  const EmbreeScene* scene;
   Vec3 origin, direction;
-  double t_max = 0;
+  double t_max;
 };
 
 EmbreeDevice::EmbreeDevice() : error_(std::make_unique<ErrorRecord>()) {
@@ -209,12 +213,7 @@ EmbreeScene::~EmbreeScene() {
 }
 
 std::optional<SurfaceHit> EmbreeScene::intersect(const Vec3& origin, const Vec3& direction, double t_max) const {
-  RayQuery query;
-  rtcInitIntersectContext(&query.context);
-  query.scene = this;
-  query.origin = origin;
-  query.direction = direction;
-  query.t_max = t_max;
+  RayQuery query(this, origin, direction, t_max);
   RTCRayHit rayhit;
   rayhit.ray = make_ray(origin, direction, t_max);
   rayhit.hit.Ng_x = rayhit.hit.Ng_y = rayhit.hit.Ng_z = 0.0f;
@@ -228,12 +227,7 @@ std::optional<SurfaceHit> EmbreeScene::intersect(const Vec3& origin, const Vec3&
 }
 
 bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, double t_max) const {
-  RayQuery query;
-  rtcInitIntersectContext(&query.context);
-  query.scene = this;
-  query.origin = origin;
-  query.direction = direction;
-  query.t_max = t_max;
+  RayQuery query(this, origin, direction, t_max);
   RTCRay ray = make_ray(origin, direction, t_max);
   rtcOccluded1(rtc_scene_, &query.context, &ray);
   return ray.tfar == -std::numeric_limits<float>::infinity();

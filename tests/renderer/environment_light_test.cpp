@@ -12,6 +12,7 @@
 
 #include "renderer/direct_strategies.h"
 #include "renderer/sampling.h"
+#include "floor_fixture.h"
 #include "test_support.h"
 
 namespace furnace {
@@ -23,11 +24,7 @@ using testing_support::make_object;
 constexpr uint64_t kSeed = 0xe5a9;
 constexpr int kSamples = 20000;
 
-struct MapFixture {
-  Scene scene;
-  std::unique_ptr<EmbreeDevice> device;
-  std::unique_ptr<EmbreeScene> rtc;
-  std::unique_ptr<LightSet> lights;
+struct MapFixture : testing_support::FloorFixture {
 
   // A floor (shading point at the origin, normal +z), optionally a rectangle
   // light, under the committed map scaled by 2.
@@ -37,17 +34,7 @@ struct MapFixture {
     if (with_emitter) scene.objects.push_back(make_object("light", Rectangle{{3, 3, 2}, {0.5, 0, 0}, {0, -0.5, 0}}, 0, 4.0));
     scene.environment = load_scene(std::string(FURNACE_SCENE_DIR) + "/environment_map.json").environment;
     scene.environment.radiance = 2.0;
-    device = std::make_unique<EmbreeDevice>();
-    rtc = std::make_unique<EmbreeScene>(*device, scene);
-    lights = std::make_unique<LightSet>(scene);
-  }
-  ShadingContext context() const {
-    SurfaceHit hit;
-    hit.object = 0;
-    hit.point = {0, 0, 0};
-    hit.normal = {0, 0, 1};
-    hit.front_facing = true;
-    return ShadingContext::at(hit, normalize(Vec3{0.2, 0.1, 1}), scene.objects[0].material);
+    build();
   }
 };
 

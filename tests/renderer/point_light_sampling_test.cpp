@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "renderer/direct_strategies.h"
+#include "floor_fixture.h"
 #include "test_support.h"
 
 namespace furnace {
@@ -20,28 +21,14 @@ constexpr double kRelTol = 8 * std::numeric_limits<double>::epsilon();
 constexpr int kDraws = 4096;
 constexpr uint64_t kSeed = 0x9017;
 
-struct Fixture {
-  Scene scene;
-  std::unique_ptr<EmbreeDevice> device;
-  std::unique_ptr<EmbreeScene> rtc;
-  std::unique_ptr<LightSet> lights;
+struct Fixture : testing_support::FloorFixture {
 
   explicit Fixture(LightSelection selection) {
     scene.name = "point_light_sampling";
     scene.objects.push_back(make_floor(0.5));
     scene.objects.push_back(make_object("ball", Sphere{{-1, 0.5, 1.2}, 0.3}, 0, 2.0));
     scene.point_lights.push_back({"bulb", {0.3, -0.2, 1.5}, 2.0});
-    device = std::make_unique<EmbreeDevice>();
-    rtc = std::make_unique<EmbreeScene>(*device, scene);
-    lights = std::make_unique<LightSet>(scene, selection);
-  }
-  ShadingContext context() const {
-    SurfaceHit hit;
-    hit.object = 0;
-    hit.point = {0, 0, 0};
-    hit.normal = {0, 0, 1};
-    hit.front_facing = true;
-    return ShadingContext::at(hit, normalize(Vec3{0.2, 0.1, 1}), scene.objects[0].material);
+    build(selection);
   }
 };
 

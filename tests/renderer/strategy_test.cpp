@@ -13,6 +13,7 @@
 #include "renderer/direct_strategies.h"
 #include "renderer/sampling.h"
 #include "renderer/spherical_sampling.h"
+#include "floor_fixture.h"
 #include "test_support.h"
 
 namespace furnace {
@@ -68,11 +69,7 @@ std::vector<LightCase> light_cases() {
 void PrintTo(const LightCase& c, std::ostream* os) { *os << c.name; }
 
 // Floor at z = 0 plus one emitter; the shading point is the origin, viewed from above.
-struct Fixture {
-  Scene scene;
-  std::unique_ptr<EmbreeDevice> device;
-  std::unique_ptr<EmbreeScene> rtc;
-  std::unique_ptr<LightSet> lights;
+struct Fixture : testing_support::FloorFixture {
   Material floor_material;
 
   explicit Fixture(const Shape& light, double environment = 0, bool two_sided = false) {
@@ -81,17 +78,7 @@ struct Fixture {
     scene.objects.push_back(make_object("light", light, 0, 3.0));
     scene.objects.back().two_sided = two_sided;
     scene.environment.radiance = environment;
-    device = std::make_unique<EmbreeDevice>();
-    rtc = std::make_unique<EmbreeScene>(*device, scene);
-    lights = std::make_unique<LightSet>(scene);
-  }
-  ShadingContext context() const {
-    SurfaceHit hit;
-    hit.object = 0;
-    hit.point = {0, 0, 0};
-    hit.normal = {0, 0, 1};
-    hit.front_facing = true;
-    return ShadingContext::at(hit, normalize(Vec3{0.2, 0.1, 1}), scene.objects[0].material);
+    build();
   }
 };
 
