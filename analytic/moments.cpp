@@ -161,10 +161,15 @@ double solid_angle_emitter_kernel(const Scene& scene, size_t i, const Vec3& p, c
 // ---------------------------------------------------------------------------
 // Multi-sample MIS (Estimator::kMisBalance, kMisPower).
 
-// The four integrals of one light's (or the sky's) directions:
-// E[Y_b²], E[Y_l²], E[Y_b], E[Y_l], per unit radiance (L², L², L, L).
+// The renderer's probability of taking the BSDF sample in mis_one_sample
+// (renderer/direct_strategies.h, restated: analytic/ does not include it).
+constexpr double kOneSampleBsdfProbability = 0.5;
+
+// The integrals of one light's (or the sky's) directions: E[Y_b²], E[Y_l²],
+// E[Y_b], E[Y_l] of multi-sample MIS, and E[Y²] of one-sample MIS, per unit
+// radiance (L², L², L, L, L²).
 struct MisTerms {
-  double bsdf2 = 0, light2 = 0, bsdf1 = 0, light1 = 0;
+  double bsdf2 = 0, light2 = 0, bsdf1 = 0, light1 = 0, one_sample2 = 0;
 };
 
 // Heuristic weight of density a against b, 0 where a = 0.
@@ -182,7 +187,11 @@ double mis_integrand(int k, double cos_theta, double p_light, int beta) {
     case 0: { const double w = heuristic(p_bsdf, p_light, beta); return w * w * cos_theta * cos_theta / p_bsdf; }
     case 1: { const double w = heuristic(p_light, p_bsdf, beta); return w * w * cos_theta * cos_theta / p_light; }
     case 2: return heuristic(p_bsdf, p_light, beta) * cos_theta;
-    default: return heuristic(p_light, p_bsdf, beta) * cos_theta;
+    case 3: return heuristic(p_light, p_bsdf, beta) * cos_theta;
+    default: {
+      const double q = kOneSampleBsdfProbability * p_bsdf + (1 - kOneSampleBsdfProbability) * p_light;
+      return q > 0 ? cos_theta * cos_theta / q : 0.0;
+    }
   }
 }
 
@@ -324,8 +333,8 @@ MisTerms mis_emitter_terms(const Scene& scene, size_t i, const Vec3& p, const Ve
   if (emitter_irradiance(scene, i, p, n, receiver) == 0) return terms;  // nothing of it reaches p
   require_unoccluded(scene, i, p, n, receiver);
   const Object& object = scene.objects[i];
-  double* out[4] = {&terms.bsdf2, &terms.light2, &terms.bsdf1, &terms.light1};
-  for (int k = 0; k < 4; ++k) {
+  double* out[5] = {&terms.bsdf2, &terms.light2, &terms.bsdf1, &terms.light1, &terms.one_sample2};
+  for (int k = 0; k < 5; ++k) {
     auto g = [k, beta](double cos_theta, double p_light) { return mis_integrand(k, cos_theta, p_light, beta); };
     if (const auto* sphere = std::get_if<Sphere>(&object.shape)) {
       const Vec3 center = sphere->center - p;
@@ -361,24 +370,32 @@ MisTerms mis_emitter_terms(const Scene& scene, size_t i, const Vec3& p, const Ve
   return terms;
 }
 
+// beta = 1 or 2: multi-sample MIS; beta = 0: one-sample MIS.
 double mis_second_moment(const Scene& scene, const Vec3& p, const Vec3& n, std::optional<size_t> receiver, int beta) {
   size_t light_count = scene.environment.radiance > 0 ? 1 : 0;
   for (const Object& o : scene.objects) light_count += o.is_emitter() ? 1 : 0;
   if (light_count == 0) return 0.0;
   const double pmf = 1.0 / double(light_count);
-  double bsdf2 = 0, light2 = 0, bsdf1 = 0, light1 = 0;
+  double bsdf2 = 0, light2 = 0, bsdf1 = 0, light1 = 0, one_sample2 = 0;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const Object& object = scene.objects[i];
     if (!object.is_emitter() || (receiver && i == *receiver)) continue;
     const double le = object.emitted_radiance;
-    const MisTerms t = mis_emitter_terms(scene, i, p, n, receiver, pmf, beta);
+    const MisTerms t = mis_emitter_terms(scene, i, p, n, receiver, pmf, beta == 0 ? 1 : beta);
     bsdf2 += le * le * t.bsdf2, light2 += le * le * t.light2;
     bsdf1 += le * t.bsdf1, light1 += le * t.light1;
+    one_sample2 += le * le * t.one_sample2;
   }
   // The open sky: p_l = pmf·cos θ/π = pmf·p_b, so w_b = 1/(1 + pmf^β) and
   // w_l = pmf^β/(1 + pmf^β) are constants; with P = E_env/L_env = ∫_sky cos θ dω:
   //   E[Y_b²] = w_b² L² π P,  E[Y_l²] = w_l² L² π P/pmf,  E[Y_b] = w_b L P,  E[Y_l] = w_l L P.
   const double e_env = environment_irradiance(scene, p, n, receiver);
+  // One-sample on the open sky: q = (c + (1 − c)·pmf)·cos θ/π, so
+  // E[Y²] = L² π P/(c + (1 − c)·pmf) = L π E_env/(c + (1 − c)·pmf).
+  if (beta == 0)
+    return one_sample2 + (e_env > 0 ? scene.environment.radiance * kPi * e_env /
+                                          (kOneSampleBsdfProbability + (1 - kOneSampleBsdfProbability) * pmf)
+                                    : 0.0);
   if (e_env > 0) {
     const double l_env = scene.environment.radiance;
     const double q = beta == 2 ? pmf * pmf : pmf;
@@ -395,11 +412,13 @@ double mis_second_moment(const Scene& scene, const Vec3& p, const Vec3& n, std::
 
 double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, const Vec3& n,
                      std::optional<size_t> receiver, LightSelection selection) {
-  if (estimator == Estimator::kMisBalance || estimator == Estimator::kMisPower) {
+  if (estimator == Estimator::kMisBalance || estimator == Estimator::kMisPower ||
+      estimator == Estimator::kMisOneSample) {
     // mis_second_moment models uniform selection among emitters and a constant sky.
     if (selection != LightSelection::kUniform || !scene.point_lights.empty() || scene.environment.map)
       unsupported_configuration(scene, "MIS with point lights, an environment map or power-proportional light selection");
-    return mis_second_moment(scene, p, n, receiver, estimator == Estimator::kMisBalance ? 1 : 2);
+    const int beta = estimator == Estimator::kMisBalance ? 1 : estimator == Estimator::kMisPower ? 2 : 0;
+    return mis_second_moment(scene, p, n, receiver, beta);
   }
   // Selection pmf of every light (emitters, point lights, environment), and
   // 1/pmf of the i-th emitter object in object order.
@@ -429,6 +448,7 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
         break;
       case Estimator::kMisBalance:
       case Estimator::kMisPower:
+      case Estimator::kMisOneSample:
         break;  // mis_second_moment above
     }
   }
@@ -444,6 +464,7 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
         break;
       case Estimator::kMisBalance:
       case Estimator::kMisPower:
+      case Estimator::kMisOneSample:
         break;  // refused above
     }
   } else if (e_env > 0) {
@@ -465,6 +486,7 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
         break;
       case Estimator::kMisBalance:
       case Estimator::kMisPower:
+      case Estimator::kMisOneSample:
         break;
     }
   }

@@ -63,6 +63,12 @@ enum class Estimator {
   // terms follow from E_env); elsewhere throws furnace::Error.
   kMisBalance,
   kMisPower,
+  // One-sample MIS (the renderer's mis_one_sample): with probability c = 1/2
+  // one BSDF sample, else one kLightSolidAngle sample, weighted by Veach's
+  // one-sample balance heuristic, so the direction has the mixture density
+  // q = c·p_b + (1 − c)·p_l and Y = L cos θ/q:
+  //   E[Y²] = ∫ (L cos θ)²/q dω   (same support and quadrature as above).
+  kMisOneSample,
 };
 
 // E[Y²] at p with unit normal n; `receiver` as in irradiance().

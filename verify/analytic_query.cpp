@@ -51,6 +51,10 @@ constexpr EstimatorName kEstimators[] = {
     {analytic::Estimator::kUniformHemisphere, "uniform_hemisphere"},
     {analytic::Estimator::kCosineHemisphere, "cosine_hemisphere"},
     {analytic::Estimator::kLightArea, "light_area"},
+    {analytic::Estimator::kLightSolidAngle, "light_solid_angle"},
+    {analytic::Estimator::kMisBalance, "mis_balance"},
+    {analytic::Estimator::kMisPower, "mis_power"},
+    {analytic::Estimator::kMisOneSample, "mis_one_sample"},
 };
 
 }  // namespace

@@ -42,6 +42,7 @@ std::optional<analytic::Estimator> analytic_estimator(Strategy s) {
     case Strategy::kLightSolidAngle: return analytic::Estimator::kLightSolidAngle;
     case Strategy::kMisBalance: return analytic::Estimator::kMisBalance;
     case Strategy::kMisPower: return analytic::Estimator::kMisPower;
+    case Strategy::kMisOneSample: return analytic::Estimator::kMisOneSample;
     default: return std::nullopt;
   }
 }

@@ -49,12 +49,15 @@ int run_render(const std::string& scene_path, const std::string& strategy, const
 
 int run_verify(std::vector<std::string> scenes, std::vector<std::string> strategies, const std::string& defect,
                int spp, uint64_t seed, int threads, double alpha, int max_depth, const std::string& light_selection) {
-  const LightSelection selection = parse_light_selection(light_selection);
+  // Empty: the built-in suite's own choice per case (it runs some scenes
+  // under both), uniform for --scene files.
+  const LightSelection selection =
+      light_selection.empty() ? LightSelection::kUniform : parse_light_selection(light_selection);
   std::vector<verify::Case> cases;
   if (scenes.empty()) {
     for (verify::Case c : verify::default_suite(spp, seed, threads)) {
       c.options.defect = parse_defect(defect);
-      c.options.light_selection = selection;
+      if (!light_selection.empty()) c.options.light_selection = selection;
       const bool selected = strategies.empty() ||
                             std::find(strategies.begin(), strategies.end(), strategy_name(c.options.strategy)) !=
                                 strategies.end();
@@ -197,8 +200,10 @@ int main(int argc, char** argv) {
   auto* verify_cmd = app.add_subcommand("verify", "Render the analytic scenes and test them against their exact references");
   verify_cmd->add_option("--scene", v_scenes, "Scene file(s); default: the built-in suite");
   verify_cmd->add_option("--strategy", v_strategies, "Strategy name(s); default: all");
-  std::string v_light_selection = "uniform";
-  verify_cmd->add_option("--light-selection", v_light_selection, "Light selection pmf: uniform or power")->capture_default_str();
+  std::string v_light_selection;
+  verify_cmd->add_option("--light-selection", v_light_selection,
+                         "Light selection pmf, uniform or power, for every case (default: the built-in suite's own "
+                         "choice per case, uniform for --scene files)");
   verify_cmd->add_option("--defect", v_defect, "Inject a negative-control defect (the run must then fail)")->capture_default_str();
   verify_cmd->add_option("--spp", v_spp, "Samples per pixel")->capture_default_str()->check(CLI::Range(2, 1 << 24));
   verify_cmd->add_option("--seed", v_seed, "Random seed")->capture_default_str();
