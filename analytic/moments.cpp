@@ -370,38 +370,50 @@ MisTerms mis_emitter_terms(const Scene& scene, size_t i, const Vec3& p, const Ve
   return terms;
 }
 
-// beta = 1 or 2: multi-sample MIS; beta = 0: one-sample MIS.
-double mis_second_moment(const Scene& scene, const Vec3& p, const Vec3& n, std::optional<size_t> receiver, int beta) {
-  size_t light_count = scene.environment.radiance > 0 ? 1 : 0;
-  for (const Object& o : scene.objects) light_count += o.is_emitter() ? 1 : 0;
-  if (light_count == 0) return 0.0;
-  const double pmf = 1.0 / double(light_count);
+// beta = 1 or 2: multi-sample MIS; beta = 0: one-sample MIS. `pmf`: the
+// selection pmf of every light (light_selection_pmf: emitters in object
+// order, then point lights, then the environment).
+double mis_second_moment(const Scene& scene, const Vec3& p, const Vec3& n, std::optional<size_t> receiver, int beta,
+                         const std::vector<double>& pmf) {
+  if (pmf.empty()) return 0.0;
+  const double c = kOneSampleBsdfProbability;
   double bsdf2 = 0, light2 = 0, bsdf1 = 0, light1 = 0, one_sample2 = 0;
+  size_t light = 0;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const Object& object = scene.objects[i];
-    if (!object.is_emitter() || (receiver && i == *receiver)) continue;
+    if (!object.is_emitter()) continue;
+    const double pmf_i = pmf[light++];
+    if (receiver && i == *receiver) continue;
     const double le = object.emitted_radiance;
-    const MisTerms t = mis_emitter_terms(scene, i, p, n, receiver, pmf, beta == 0 ? 1 : beta);
+    const MisTerms t = mis_emitter_terms(scene, i, p, n, receiver, pmf_i, beta == 0 ? 1 : beta);
     bsdf2 += le * le * t.bsdf2, light2 += le * le * t.light2;
     bsdf1 += le * t.bsdf1, light1 += le * t.light1;
     one_sample2 += le * le * t.one_sample2;
+  }
+  // Point lights: only the light sample finds them, with weight 1; chosen with
+  // pmf P_l it returns E_l/P_l (multi-sample) or E_l/((1 − c)·P_l) (one-sample).
+  for (size_t l = 0; l < scene.point_lights.size(); ++l) {
+    const double pmf_l = pmf[light++];
+    const double e = point_light_irradiance(scene, l, p, n, receiver);
+    light2 += e * e / pmf_l;
+    light1 += e;
+    one_sample2 += e * e / ((1 - c) * pmf_l);
   }
   // The open sky: p_l = pmf·cos θ/π = pmf·p_b, so w_b = 1/(1 + pmf^β) and
   // w_l = pmf^β/(1 + pmf^β) are constants; with P = E_env/L_env = ∫_sky cos θ dω:
   //   E[Y_b²] = w_b² L² π P,  E[Y_l²] = w_l² L² π P/pmf,  E[Y_b] = w_b L P,  E[Y_l] = w_l L P.
   const double e_env = environment_irradiance(scene, p, n, receiver);
+  const double pmf_env = pmf.back();
   // One-sample on the open sky: q = (c + (1 − c)·pmf)·cos θ/π, so
   // E[Y²] = L² π P/(c + (1 − c)·pmf) = L π E_env/(c + (1 − c)·pmf).
   if (beta == 0)
-    return one_sample2 + (e_env > 0 ? scene.environment.radiance * kPi * e_env /
-                                          (kOneSampleBsdfProbability + (1 - kOneSampleBsdfProbability) * pmf)
-                                    : 0.0);
+    return one_sample2 + (e_env > 0 ? scene.environment.radiance * kPi * e_env / (c + (1 - c) * pmf_env) : 0.0);
   if (e_env > 0) {
     const double l_env = scene.environment.radiance;
-    const double q = beta == 2 ? pmf * pmf : pmf;
+    const double q = beta == 2 ? pmf_env * pmf_env : pmf_env;
     const double w_b = 1 / (1 + q), w_l = q / (1 + q);
     bsdf2 += w_b * w_b * l_env * kPi * e_env;
-    light2 += w_l * w_l * l_env * kPi * e_env / pmf;
+    light2 += w_l * w_l * l_env * kPi * e_env / pmf_env;
     bsdf1 += w_b * e_env;
     light1 += w_l * e_env;
   }
@@ -414,11 +426,10 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
                      std::optional<size_t> receiver, LightSelection selection) {
   if (estimator == Estimator::kMisBalance || estimator == Estimator::kMisPower ||
       estimator == Estimator::kMisOneSample) {
-    // mis_second_moment models uniform selection among emitters and a constant sky.
-    if (selection != LightSelection::kUniform || !scene.point_lights.empty() || scene.environment.map)
-      unsupported_configuration(scene, "MIS with point lights, an environment map or power-proportional light selection");
+    // mis_second_moment models emitters, point lights and a constant sky.
+    if (scene.environment.map) unsupported_configuration(scene, "MIS under an environment map");
     const int beta = estimator == Estimator::kMisBalance ? 1 : estimator == Estimator::kMisPower ? 2 : 0;
-    return mis_second_moment(scene, p, n, receiver, beta);
+    return mis_second_moment(scene, p, n, receiver, beta, light_selection_pmf(scene, selection));
   }
   // Selection pmf of every light (emitters, point lights, environment), and
   // 1/pmf of the i-th emitter object in object order.

@@ -59,8 +59,10 @@ enum class Estimator {
   //   Y = Y_b + Y_l (independent),  E[Y²] = E[Y_b²] + E[Y_l²] + 2·E[Y_b]·E[Y_l],
   //   E[Y_s²] = ∫ w_s² (L cos θ)²/p_s dω,  E[Y_s] = ∫ w_s L cos θ dω.
   // Supported: unoccluded emitters (every one by quadrature over its solid
-  // angle) and the constant environment (w constant on the open sky, so its
-  // terms follow from E_env); elsewhere throws furnace::Error.
+  // angle), the constant environment (w constant on the open sky, so its
+  // terms follow from E_env) and point lights (found only by the light
+  // sample, weight 1: E_l²/P_l and E_l), under uniform or power selection
+  // (each light's own pmf P_l); elsewhere throws furnace::Error.
   kMisBalance,
   kMisPower,
   // One-sample MIS (the renderer's mis_one_sample): with probability c = 1/2
