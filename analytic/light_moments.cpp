@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <boost/math/quadrature/tanh_sinh.hpp>
 
 #include "analytic/polygon.h"
+#include "analytic/polygon_patch.h"
 #include "core/error.h"
 
 namespace furnace::analytic {
@@ -84,43 +84,11 @@ double polygon_cos2_solid_angle(const std::vector<Vec3>& vertices, const Vec3& n
 }
 
 double polygon_area_kernel(const std::vector<Vec3>& vertices, const Vec3& n) {
-  using boost::math::quadrature::gauss_kronrod;
-  FURNACE_CHECK(vertices.size() == 3 || vertices.size() == 4);
-  // x(s, t) = a0 + s·a1 + t·(b0 + s·b1), |∂x/∂s × ∂x/∂t| = j0 + s·j1.
-  Vec3 a0 = vertices[0], a1, b0, b1;
-  double j0, j1;
-  if (vertices.size() == 4) {
-    a1 = vertices[1] - vertices[0], b0 = vertices[3] - vertices[0];
-    j0 = length(cross(a1, b0)), j1 = 0;
-  } else {
-    a1 = vertices[1] - vertices[0], b1 = vertices[2] - vertices[1];
-    j0 = 0, j1 = length(cross(a1, vertices[2] - vertices[0]));
-  }
-  const Vec3 m = normalize(cross(vertices[1] - vertices[0], vertices[2] - vertices[0]));
-  auto point = [&](double s, double t) { return a0 + a1 * s + (b0 + b1 * s) * t; };
-  auto inner = [&](double s) {
-    const double f0 = dot(n, point(s, 0)), f1 = dot(n, point(s, 1));
-    if (f0 <= 0 && f1 <= 0) return 0.0;
-    const double lo = f0 < 0 ? f0 / (f0 - f1) : 0.0, hi = f1 < 0 ? f0 / (f0 - f1) : 1.0;
-    auto g = [&](double t) {
-      const Vec3 x = point(s, t);
-      const double r2 = length_squared(x);
-      const double geometric = std::fmax(dot(n, x), 0.0) * std::fabs(dot(m, x)) / (r2 * r2);  // cos θ cos θ'/r²
-      return geometric * geometric;
-    };
-    return (j0 + j1 * s) * gauss_kronrod<double, 61>::integrate(g, lo, hi, 8, 1e-12);
-  };
-  std::vector<double> cuts{0, 1};
-  for (double t : {0.0, 1.0}) {
-    const double g0 = dot(n, point(0, t)), g1 = dot(n, point(1, t));
-    if ((g0 < 0) != (g1 < 0)) cuts.push_back(g0 / (g0 - g1));
-  }
-  std::sort(cuts.begin(), cuts.end());
-  boost::math::quadrature::tanh_sinh<double> outer;
-  double sum = 0;
-  for (size_t i = 0; i + 1 < cuts.size(); ++i)
-    if (cuts[i + 1] > cuts[i]) sum += outer.integrate(inner, cuts[i], cuts[i + 1], 1e-12);
-  return sum;
+  return polygon_patch_integral(vertices, n, 1e-12, 20, [&](const Vec3& x, const Vec3& m) {
+    const double r2 = length_squared(x);
+    const double geometric = std::fmax(dot(n, x), 0.0) * std::fabs(dot(m, x)) / (r2 * r2);  // cos θ cos θ'/r²
+    return geometric * geometric;
+  });
 }
 
 double sphere_solid_angle(double D, double R) {

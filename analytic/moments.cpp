@@ -6,7 +6,6 @@
 #include <utility>
 #include <vector>
 
-#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <variant>
 
 #include "analytic/circle_region.h"
@@ -16,6 +15,7 @@
 #include "analytic/planar_light.h"
 #include "analytic/environment.h"
 #include "analytic/adaptive_quadrature.h"
+#include "analytic/polygon_patch.h"
 #include "analytic/environment_map.h"
 #include "analytic/reference.h"
 
@@ -216,7 +216,6 @@ constexpr int kMisQuadratureDepth = 15;
 // tolerance kMisQuadratureTolerance.
 template <class Ring, class Integrand>
 double ring_integral(double u0, double u1, const std::vector<double>& kinks, Ring ring, Integrand g) {
-  using boost::math::quadrature::gauss_kronrod;
   auto outer = [&](double u) {
     double A, B, C;
     ring.coefficients(u, &A, &B, &C);
@@ -281,49 +280,19 @@ struct DiskRings {
   }
 };
 
-// A polygon (parallelogram or triangle) as x(s, t) = a0 + s·a1 + t·(b0 + s·b1),
-// |∂x/∂s × ∂x/∂t| = j0 + j1·s; for fixed s, n·x is linear in t.
+// ∫ g(cos θ, p_light) dω over a polygon light (polygon_patch.h, dω = cos θ'/r² dA);
+// p_light = pmf/Ω for solid-angle sampling (omega > 0), else the area density
+// converted to solid angle.
 template <class Integrand>
 double patch_integral_mis(const std::vector<Vec3>& v, const Vec3& n, double pmf, double omega, double area,
                           Integrand g) {
-  using boost::math::quadrature::gauss_kronrod;
-  Vec3 a0 = v[0], a1 = v[1] - v[0], b0, b1;
-  double j0, j1;
-  if (v.size() == 4) {
-    b0 = v[3] - v[0], b1 = {0, 0, 0};
-    j0 = length(cross(a1, b0)), j1 = 0;
-  } else {
-    b0 = {0, 0, 0}, b1 = v[2] - v[1];
-    j0 = 0, j1 = length(cross(a1, v[2] - v[0]));
-  }
-  const Vec3 m = normalize(cross(v[1] - v[0], v[2] - v[0]));
-  auto point = [&](double s, double t) { return a0 + a1 * s + (b0 + b1 * s) * t; };
-  auto inner_s = [&](double s) {
-    const double f0 = dot(n, point(s, 0)), f1 = dot(n, point(s, 1));
-    if (f0 <= 0 && f1 <= 0) return 0.0;
-    const double lo = f0 < 0 ? f0 / (f0 - f1) : 0.0, hi = f1 < 0 ? f0 / (f0 - f1) : 1.0;
-    auto f = [&](double t) {
-      const Vec3 x = point(s, t);
-      const double r2 = length_squared(x), r = std::sqrt(r2);
-      const double cos_theta = dot(n, x) / r, cos_light = std::fabs(dot(m, x)) / r;
-      if (!(cos_theta > 0) || !(cos_light > 0)) return 0.0;
-      const double p_light = omega > 0 ? pmf / omega : pmf * r2 / (area * cos_light);
-      return g(cos_theta, p_light) * cos_light / r2;
-    };
-    return (j0 + j1 * s) * gauss_kronrod<double, 31>::integrate(f, lo, hi, kMisQuadratureDepth, kMisQuadratureTolerance);
-  };
-  std::vector<double> cuts{0, 1};
-  for (double t : {0.0, 1.0}) {
-    const double g0 = dot(n, point(0, t)), g1 = dot(n, point(1, t));
-    if ((g0 < 0) != (g1 < 0)) cuts.push_back(g0 / (g0 - g1));
-  }
-  std::sort(cuts.begin(), cuts.end());
-  double sum = 0;
-  for (size_t i = 0; i + 1 < cuts.size(); ++i)
-    if (cuts[i + 1] > cuts[i])
-      sum += gauss_kronrod<double, 31>::integrate(inner_s, cuts[i], cuts[i + 1], kMisQuadratureDepth,
-                                                  kMisQuadratureTolerance);
-  return sum;
+  return polygon_patch_integral(v, n, kMisQuadratureTolerance, kMisQuadratureDepth, [&](const Vec3& x, const Vec3& m) {
+    const double r2 = length_squared(x), r = std::sqrt(r2);
+    const double cos_theta = dot(n, x) / r, cos_light = std::fabs(dot(m, x)) / r;
+    if (!(cos_theta > 0) || !(cos_light > 0)) return 0.0;
+    const double p_light = omega > 0 ? pmf / omega : pmf * r2 / (area * cos_light);
+    return g(cos_theta, p_light) * cos_light / r2;
+  });
 }
 
 // The MIS terms of emitter i (unoccluded) per unit radiance.

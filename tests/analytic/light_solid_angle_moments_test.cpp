@@ -18,6 +18,7 @@
 #include "analytic/intersect.h"
 #include "analytic/reference.h"
 #include "core/error.h"
+#include "running_moments.h"
 #include "solid_angle_quadrature.h"
 
 namespace furnace::analytic {
@@ -212,26 +213,17 @@ MonteCarlo simulate(const Case& c, double omega) {
   const Cap cap = bounding_cap(c.shape, c.p);
   const Frame frame = Frame::from_normal(cap.axis);
   SplitMix64 rng{kMonteCarloSeed};
-  double n = 0, mean = 0, m2 = 0, m3 = 0, m4 = 0;
-  while (n < kMonteCarloSamples) {
+  testing_support::RunningMoments moments;
+  while (moments.n < kMonteCarloSamples) {
     const double cos_g = 1 - rng.next() * (1 - cap.cos_cap);
     const double sin_g = std::sqrt(std::fmax(0.0, (1 - cos_g) * (1 + cos_g)));
     const double phi = 2 * kPi * rng.next();
     const Vec3 w = frame.s * (sin_g * std::cos(phi)) + frame.t * (sin_g * std::sin(phi)) + frame.n * cos_g;
     if (!intersect_shape(c.shape, c.p, w, 0)) continue;
     const double y = c.le * std::fmax(dot(c.n, w), 0.0) * omega;
-    // Terriberry's update of the central moments.
-    const double n1 = n;
-    n += 1;
-    const double delta = y - mean, dn = delta / n, dn2 = dn * dn, t1 = delta * dn * n1;
-    mean += dn;
-    m4 += t1 * dn2 * (n * n - 3 * n + 3) + 6 * dn2 * m2 - 4 * dn * m3;
-    m3 += t1 * dn * (n - 2) - 3 * dn * m2;
-    m2 += t1;
+    moments.add(y);
   }
-  const double s2 = m2 / (n - 1);
-  // Var(s²) ≈ (μ4 − σ⁴)/N for large N.
-  return {mean, s2, std::sqrt(std::fmax(m4 / n - s2 * s2, 0.0) / n), std::sqrt(s2 / n)};
+  return {moments.mean, moments.sample_variance(), moments.variance_standard_error(), moments.mean_standard_error()};
 }
 
 class LightSolidAngleMonteCarlo : public testing::TestWithParam<Case> {};

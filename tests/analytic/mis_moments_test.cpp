@@ -19,6 +19,7 @@
 #include "analytic/intersect.h"
 #include "analytic/reference.h"
 #include "core/error.h"
+#include "running_moments.h"
 
 namespace furnace::analytic {
 namespace {
@@ -145,7 +146,7 @@ Moments simulate(const Case& c, int beta) {
   const LightModel light(c, pmf);
   const Frame frame = Frame::from_normal(kN);
   SplitMix64 rng{kSeed + uint64_t(beta)};
-  double n = 0, mean = 0, m2 = 0, m3 = 0, m4 = 0;
+  testing_support::RunningMoments moments;
   auto radiance_and_light_pdf = [&](const Vec3& w, double* p_light) {
     if (intersect_shape(c.shape, kP, w, 0)) {
       *p_light = light.emits_towards(w) ? light.pdf(w) : 0.0;
@@ -182,16 +183,9 @@ Moments simulate(const Case& c, int beta) {
         if (L > 0 && p_l > 0) y += weight(p_l, p_b, beta) * L * cos_t / p_l;
       }
     }
-    const double n1 = n;
-    n += 1;
-    const double delta = y - mean, dn = delta / n, dn2 = dn * dn, t1 = delta * dn * n1;
-    mean += dn;
-    m4 += t1 * dn2 * (n * n - 3 * n + 3) + 6 * dn2 * m2 - 4 * dn * m3;
-    m3 += t1 * dn * (n - 2) - 3 * dn * m2;
-    m2 += t1;
+    moments.add(y);
   }
-  const double s2 = m2 / (n - 1);
-  return {mean, s2, std::sqrt(s2 / n), std::sqrt(std::fmax(m4 / n - s2 * s2, 0.0) / n)};
+  return {moments.mean, moments.sample_variance(), moments.mean_standard_error(), moments.variance_standard_error()};
 }
 
 double z_critical(size_t family) {
