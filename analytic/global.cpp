@@ -13,7 +13,7 @@ namespace furnace::analytic {
 
 double uniform_enclosure_radiance(double emitted_radiance, double albedo, int max_segments) {
   FURNACE_CHECK(albedo >= 0 && albedo <= 1 && max_segments >= 1);
-  if (max_segments == kUnlimitedSegments) {
+  if (max_segments == kUnlimitedDepth) {
     FURNACE_CHECK(albedo < 1);
     return emitted_radiance / (1.0 - albedo);
   }
@@ -88,7 +88,7 @@ Classification classify(const Scene& scene, int max_segments) {
     if (scene.environment.radiance > 0) no_closed_form(scene, "it is closed but has an environment");
     if (!uniform || non_mirror == 0)
       no_closed_form(scene, "a closed enclosure needs one albedo and one emission on every object");
-    if (*albedo >= 1 && max_segments == kUnlimitedSegments)
+    if (*albedo >= 1 && max_segments == kUnlimitedDepth)
       no_closed_form(scene, "a closed enclosure of albedo 1 has infinite radiance at unlimited depth");
     for (size_t i = 0; i < scene.objects.size(); ++i) {
       const Object& o = scene.objects[i];
@@ -127,7 +127,7 @@ Classification classify(const Scene& scene, int max_segments) {
     const double rho = albedo.value_or(0);
     const bool single_convex = non_mirror <= 1;
     if (single_convex) return {Kind::kFurnace, rho, 0};
-    if (rho == 1 && max_segments == kUnlimitedSegments) return {Kind::kFurnace, rho, 0};
+    if (rho == 1 && max_segments == kUnlimitedDepth) return {Kind::kFurnace, rho, 0};
     no_closed_form(scene, "a furnace with several objects is exact only for albedo 1 at unlimited depth");
   }
   if (reflecting <= 1 && reflecting_planar) return {Kind::kDirectOnly, 0, 0};
@@ -143,7 +143,7 @@ double leaving_radiance(const Scene& scene, const Classification& c, const Hit& 
     case Kind::kEnclosure:
       return uniform_enclosure_radiance(c.emitted_radiance, c.albedo, segments_left);
     case Kind::kFurnace: {
-      const bool white_unlimited = c.albedo == 1 && segments_left == kUnlimitedSegments;
+      const bool white_unlimited = c.albedo == 1 && segments_left == kUnlimitedDepth;
       return white_unlimited ? scene.environment.radiance
                              : convex_furnace_radiance(scene.environment.radiance, c.albedo, segments_left);
     }
@@ -186,7 +186,7 @@ std::vector<double> global_reference_image(const Scene& scene, int max_segments)
           break;
         }
         // Perfect mirror: one deterministic continuation, reflectance ρ_m.
-        if (segments_left != kUnlimitedSegments && --segments_left < 1) break;
+        if (segments_left != kUnlimitedDepth && --segments_left < 1) break;
         throughput *= o.material.albedo;
         const Vec3 n = hit->normal;
         const Vec3 reflected = ray.direction - n * (2 * dot(ray.direction, n));

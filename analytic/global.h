@@ -6,17 +6,15 @@
 //
 // Depth is counted in path segments, the camera segment being the first:
 // max_segments = 1 sees only emission, 2 adds direct light, and so on;
-// kUnlimitedSegments means the full Neumann series.
+// kUnlimitedDepth (core/strategy.h) means the full Neumann series.
 #pragma once
 
-#include <limits>
 #include <vector>
 
 #include "core/scene.h"
+#include "core/strategy.h"
 
 namespace furnace::analytic {
-
-inline constexpr int kUnlimitedSegments = std::numeric_limits<int>::max();
 
 // A closed enclosure whose every wall (and interior blocker) is Lambertian
 // with reflectance ρ and emits Le on the sides that face the interior.

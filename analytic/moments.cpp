@@ -18,6 +18,7 @@
 #include "analytic/polygon_patch.h"
 #include "analytic/environment_map.h"
 #include "analytic/reference.h"
+#include "core/error.h"
 
 namespace furnace::analytic {
 
@@ -72,10 +73,10 @@ double blocker_cos2_solid_angle(const Scene& scene, size_t j, const Vec3& p, con
 }
 
 // Per-emitter kernels: K_hemisphere = ∫_visible cos²θ dω, K_area = ∫_visible (cos θ cos θ'/r²)² dA.
-double emitter_kernel(Estimator estimator, const Scene& scene, size_t i, const Vec3& p, const Vec3& n,
+double emitter_kernel(Strategy estimator, const Scene& scene, size_t i, const Vec3& p, const Vec3& n,
                       std::optional<size_t> receiver) {
   const Object& object = scene.objects[i];
-  const bool hemisphere = estimator == Estimator::kUniformHemisphere;
+  const bool hemisphere = estimator == Strategy::kUniformHemisphere;
   if (std::holds_alternative<Disk>(object.shape)) {
     std::string reason;
     const auto view = disk_light_view(scene, i, p, n, receiver, &reason);
@@ -103,10 +104,10 @@ double emitter_kernel(Estimator estimator, const Scene& scene, size_t i, const V
 // returns E_l/P_l exactly, so it adds P_l·(E_l/P_l)² = E_l²/P_l to E[Y²].
 // `pmf` is light_selection_pmf (emitters first, then the point lights).
 // The hemisphere estimators never see a point light: refused.
-double point_lights_second_moment(Estimator estimator, const Scene& scene, const Vec3& p, const Vec3& n,
+double point_lights_second_moment(Strategy estimator, const Scene& scene, const Vec3& p, const Vec3& n,
                                   std::optional<size_t> receiver, const std::vector<double>& pmf) {
   if (scene.point_lights.empty()) return 0.0;
-  if (estimator != Estimator::kLightArea && estimator != Estimator::kLightSolidAngle)
+  if (estimator != Strategy::kLightArea && estimator != Strategy::kLightSolidAngle)
     unsupported_configuration(scene, "point lights, which a hemisphere estimator cannot sample,");
   size_t first = 0;
   for (const Object& o : scene.objects) first += o.is_emitter() ? 1 : 0;
@@ -119,13 +120,10 @@ double point_lights_second_moment(Estimator estimator, const Scene& scene, const
 }
 
 // ---------------------------------------------------------------------------
-// Light solid-angle sampling (Estimator::kLightSolidAngle). The renderer's
-// choice of method per emitter, restated from its documented contract
-// (renderer/light_strategy.h, spherical_sampling.h), not included:
-// below this solid angle the spherical maps are not used (area sampling),
-constexpr double kRendererMinSampledSolidAngle = 1e-6;
-// and a rectangle's edges count as perpendicular within this relative tolerance.
-constexpr double kRendererPerpendicularTolerance = 1e-12;
+// Light solid-angle sampling (Strategy::kLightSolidAngle). The renderer's
+// choice of method per emitter is its contract in core/strategy.h: spherical
+// maps from kMinSampledSolidAngle up, rectangles within
+// kPerpendicularTolerance of perpendicular, area sampling otherwise.
 
 // E[Y²]/(K·L²) of emitter i under light_solid_angle sampling:
 //   cone or whole spherical polygon: Ω·∫_visible max(cos θ, 0)² dω,
@@ -134,12 +132,12 @@ double solid_angle_emitter_kernel(const Scene& scene, size_t i, const Vec3& p, c
                                   std::optional<size_t> receiver) {
   const Object& object = scene.objects[i];
   auto area_fallback = [&] {
-    return shape_area(object.shape) * emitter_kernel(Estimator::kLightArea, scene, i, p, n, receiver);
+    return shape_area(object.shape) * emitter_kernel(Strategy::kLightArea, scene, i, p, n, receiver);
   };
   if (std::holds_alternative<Disk>(object.shape)) return area_fallback();
   if (const auto* r = std::get_if<Rectangle>(&object.shape)) {
     const double lu = length(r->edge_u), lv = length(r->edge_v);
-    if (!(std::fabs(dot(r->edge_u, r->edge_v)) <= kRendererPerpendicularTolerance * lu * lv)) return area_fallback();
+    if (!(std::fabs(dot(r->edge_u, r->edge_v)) <= kPerpendicularTolerance * lu * lv)) return area_fallback();
   }
   // Nothing of it reaches p (behind a one-sided light, edge-on, below the
   // horizon or wholly hidden): every sample is 0, whatever the method.
@@ -154,16 +152,12 @@ double solid_angle_emitter_kernel(const Scene& scene, size_t i, const Vec3& p, c
   // Triangles and rectangles seen from their emitting side (a two-sided light
   // from behind is sampled as its mirror twin: the same Ω).
   const double omega = polygon_solid_angle(polygon_vertices_relative(object.shape, p));
-  if (!(omega >= kRendererMinSampledSolidAngle)) return area_fallback();
+  if (!(omega >= kMinSampledSolidAngle)) return area_fallback();
   return omega * planar_light_cos2_solid_angle(scene, i, p, n, receiver);
 }
 
 // ---------------------------------------------------------------------------
-// Multi-sample MIS (Estimator::kMisBalance, kMisPower).
-
-// The renderer's probability of taking the BSDF sample in mis_one_sample
-// (renderer/direct_strategies.h, restated: analytic/ does not include it).
-constexpr double kOneSampleBsdfProbability = 0.5;
+// Multi-sample MIS (Strategy::kMisBalance, kMisPower).
 
 // The integrals of one light's (or the sky's) directions: E[Y_b²], E[Y_l²],
 // E[Y_b], E[Y_l] of multi-sample MIS, and E[Y²] of one-sample MIS, per unit
@@ -330,9 +324,9 @@ MisTerms mis_emitter_terms(const Scene& scene, size_t i, const Vec3& p, const Ve
       double omega = polygon_solid_angle(vertices);
       if (const auto* r = std::get_if<Rectangle>(&object.shape)) {
         const double lu = length(r->edge_u), lv = length(r->edge_v);
-        if (!(std::fabs(dot(r->edge_u, r->edge_v)) <= kRendererPerpendicularTolerance * lu * lv)) omega = 0;
+        if (!(std::fabs(dot(r->edge_u, r->edge_v)) <= kPerpendicularTolerance * lu * lv)) omega = 0;
       }
-      if (!(omega >= kRendererMinSampledSolidAngle)) omega = 0;  // area sampling
+      if (!(omega >= kMinSampledSolidAngle)) omega = 0;  // area sampling
       *out[k] = patch_integral_mis(vertices, n, pmf, omega, shape_area(object.shape), g);
     }
   }
@@ -391,13 +385,18 @@ double mis_second_moment(const Scene& scene, const Vec3& p, const Vec3& n, std::
 
 }  // namespace
 
-double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, const Vec3& n,
+double second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const Vec3& n,
                      std::optional<size_t> receiver, LightSelection selection) {
-  if (estimator == Estimator::kMisBalance || estimator == Estimator::kMisPower ||
-      estimator == Estimator::kMisOneSample) {
+  const std::optional<Strategy> model = strategy_info(strategy).variance_model;
+  if (!model)
+    unsupported_configuration(scene, "the strategy '" + strategy_name(strategy) +
+                                         "', which has no variance model,");
+  const Strategy estimator = *model;
+  if (estimator == Strategy::kMisBalance || estimator == Strategy::kMisPower ||
+      estimator == Strategy::kMisOneSample) {
     // mis_second_moment models emitters, point lights and a constant sky.
     if (scene.environment.map) unsupported_configuration(scene, "MIS under an environment map");
-    const int beta = estimator == Estimator::kMisBalance ? 1 : estimator == Estimator::kMisPower ? 2 : 0;
+    const int beta = strategy_info(estimator).mis_beta;  // 0: one-sample MIS
     return mis_second_moment(scene, p, n, receiver, beta, light_selection_pmf(scene, selection));
   }
   // Selection pmf of every light (emitters, point lights, environment), and
@@ -414,66 +413,78 @@ double second_moment(Estimator estimator, const Scene& scene, const Vec3& p, con
     if (!object.is_emitter() || (receiver && i == *receiver)) continue;
     const double le = object.emitted_radiance;
     switch (estimator) {
-      case Estimator::kUniformHemisphere:
+      case Strategy::kUniformHemisphere:
         moment += 2 * kPi * le * le * emitter_kernel(estimator, scene, i, p, n, receiver);
         break;
-      case Estimator::kCosineHemisphere:
+      case Strategy::kCosineHemisphere:
         moment += kPi * le * le * emitter_irradiance(scene, i, p, n, receiver);
         break;
-      case Estimator::kLightArea:
+      case Strategy::kLightArea:
         moment += inverse_pmf_of_object[i] * shape_area(object.shape) * le * le * emitter_kernel(estimator, scene, i, p, n, receiver);
         break;
-      case Estimator::kLightSolidAngle:
+      case Strategy::kLightSolidAngle:
         moment += inverse_pmf_of_object[i] * le * le * solid_angle_emitter_kernel(scene, i, p, n, receiver);
         break;
-      case Estimator::kMisBalance:
-      case Estimator::kMisPower:
-      case Estimator::kMisOneSample:
+      case Strategy::kMisBalance:
+      case Strategy::kMisPower:
+      case Strategy::kMisOneSample:
         break;  // mis_second_moment above
+      case Strategy::kBsdf:
+      case Strategy::kPathNaive:
+      case Strategy::kPathMis:
+        FURNACE_CHECK(false && "mapped to its variance model above");
     }
   }
   moment += point_lights_second_moment(estimator, scene, p, n, receiver, pmf);
   const double e_env = environment_irradiance(scene, p, n, receiver);
   if (e_env > 0 && scene.environment.map) {  // unblocked (environment_irradiance refuses blockers)
     switch (estimator) {
-      case Estimator::kUniformHemisphere: moment += map_uniform_hemisphere_moment(scene.environment, n); break;
-      case Estimator::kCosineHemisphere: moment += map_cosine_moment(scene.environment, n); break;
-      case Estimator::kLightArea:  // the map's texel sampling, chosen with pmf P_env (last)
-      case Estimator::kLightSolidAngle:
+      case Strategy::kUniformHemisphere: moment += map_uniform_hemisphere_moment(scene.environment, n); break;
+      case Strategy::kCosineHemisphere: moment += map_cosine_moment(scene.environment, n); break;
+      case Strategy::kLightArea:  // the map's texel sampling, chosen with pmf P_env (last)
+      case Strategy::kLightSolidAngle:
         moment += map_light_sampling_moment(scene.environment, n, 1) / pmf.back();
         break;
-      case Estimator::kMisBalance:
-      case Estimator::kMisPower:
-      case Estimator::kMisOneSample:
+      case Strategy::kMisBalance:
+      case Strategy::kMisPower:
+      case Strategy::kMisOneSample:
         break;  // refused above
+      case Strategy::kBsdf:
+      case Strategy::kPathNaive:
+      case Strategy::kPathMis:
+        FURNACE_CHECK(false && "mapped to its variance model above");
     }
   } else if (e_env > 0) {
     const double l_env = scene.environment.radiance;
     switch (estimator) {
-      case Estimator::kUniformHemisphere: {
+      case Strategy::kUniformHemisphere: {
         // ∫ cos²θ dω = 2π/3 over the hemisphere, minus what the blockers hide.
         double hidden = 0;
         for (size_t j : environment_blockers(scene, p, n, receiver)) hidden += blocker_cos2_solid_angle(scene, j, p, n);
         moment += 2 * kPi * l_env * l_env * std::fmax(2 * kPi / 3 - hidden, 0.0);
         break;
       }
-      case Estimator::kCosineHemisphere:
+      case Strategy::kCosineHemisphere:
         moment += kPi * l_env * e_env;
         break;
-      case Estimator::kLightArea:  // the environment is sampled cosine-weighted, chosen with pmf P_env (last)
-      case Estimator::kLightSolidAngle:
+      case Strategy::kLightArea:  // the environment is sampled cosine-weighted, chosen with pmf P_env (last)
+      case Strategy::kLightSolidAngle:
         moment += kPi * l_env * e_env / pmf.back();
         break;
-      case Estimator::kMisBalance:
-      case Estimator::kMisPower:
-      case Estimator::kMisOneSample:
-        break;
+      case Strategy::kMisBalance:
+      case Strategy::kMisPower:
+      case Strategy::kMisOneSample:
+        break;  // mis_second_moment above
+      case Strategy::kBsdf:
+      case Strategy::kPathNaive:
+      case Strategy::kPathMis:
+        FURNACE_CHECK(false && "mapped to its variance model above");
     }
   }
   return moment;
 }
 
-double pixel_center_second_moment(Estimator estimator, const Scene& scene, int px, int py, LightSelection selection) {
+double pixel_center_second_moment(Strategy strategy, const Scene& scene, int px, int py, LightSelection selection) {
   const Camera::Ray ray = scene.camera.pixel_center_ray(px, py);
   const std::optional<Hit> hit = intersect(scene, ray.origin, ray.direction);
   if (!hit) return std::pow(environment_radiance(scene.environment, ray.direction), 2);
@@ -486,7 +497,7 @@ double pixel_center_second_moment(Estimator estimator, const Scene& scene, int p
   const Vec3 n = cos_view < 0 ? hit->normal : -hit->normal;
   const double k = object.material.albedo * kInvPi;
   const double e = irradiance(scene, hit->point, n, hit->object_index);
-  return le * le + 2 * le * k * e + k * k * second_moment(estimator, scene, hit->point, n, hit->object_index, selection);
+  return le * le + 2 * le * k * e + k * k * second_moment(strategy, scene, hit->point, n, hit->object_index, selection);
 }
 
 }  // namespace furnace::analytic

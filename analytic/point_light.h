@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/scene.h"
+#include "core/strategy.h"
 
 namespace furnace::analytic {
 
@@ -29,13 +30,7 @@ double point_light_irradiance(const Scene& scene, size_t light, const Vec3& p, c
 // Σ over every point light of point_light_irradiance.
 double point_lights_irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optional<size_t> receiver);
 
-// How a light-sampling estimator picks one of the scene's lights.
-enum class LightSelection {
-  kUniform,  // pmf 1/K over the K lights
-  kPower,    // pmf Φ_l/Σ Φ proportional to emitted power
-};
-
-// The selection pmf of every light, in the order: emitters (object order),
+// The selection pmf (uniform 1/K, or Φ_l/Σ Φ by power) of every light, in the order: emitters (object order),
 // point lights (scene order), the environment last (when its radiance is
 // positive). Emitted power Φ:
 //   one-sided Lambertian emitter Φ = π·Le·A (a sphere's outside, A = 4πr²);

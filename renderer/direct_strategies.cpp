@@ -158,8 +158,8 @@ double DirectLighting::estimate(const ShadingContext& ctx, Rng& rng, TraceCounte
     case Strategy::kBsdf: return estimate_direction(BsdfStrategy{defect_}, ctx, rng, counters);
     case Strategy::kLightArea:
     case Strategy::kLightSolidAngle: return estimate_light(ctx, rng, counters);
-    case Strategy::kMisBalance: return estimate_mis(ctx, rng, counters, 1);
-    case Strategy::kMisPower: return estimate_mis(ctx, rng, counters, 2);
+    case Strategy::kMisBalance:
+    case Strategy::kMisPower: return estimate_mis(ctx, rng, counters, strategy_info(strategy_).mis_beta);
     case Strategy::kMisOneSample: return estimate_one_sample(ctx, rng, counters);
     case Strategy::kPathNaive:
     case Strategy::kPathMis: break;

@@ -7,7 +7,7 @@
 // estimator.h (weight = f·cos θi/pdf). The light strategies live in
 // light_strategy.h; DirectLighting combines them (single strategy or MIS).
 //
-// NEGATIVE CONTROLS: the Defect values of render.h are implemented at lines
+// NEGATIVE CONTROLS: the Defect values of core/strategy.h are implemented at lines
 // marked "DEFECT(...)" (here, in light_strategy.cpp, estimator.h and
 // path_tracer.cpp). With Defect::kNone none of them is active.
 #pragma once
@@ -15,10 +15,10 @@
 #include <array>
 #include <optional>
 
+#include "core/strategy.h"
 #include "renderer/estimator.h"
 #include "renderer/light_strategy.h"
 #include "renderer/lights.h"
-#include "renderer/render.h"
 #include "renderer/rng.h"
 
 namespace furnace {
@@ -60,10 +60,6 @@ struct MisWeights {
   double w_light = 0;
 };
 MisWeights mis_weights(const MisPdfs& pdfs, int beta, Defect defect);
-
-// mis_one_sample's probability c of taking the BSDF sample (else the light
-// sample): 1/2, the choice that needs no knowledge of the scene.
-inline constexpr double kOneSampleBsdfProbability = 0.5;
 
 // The single-sample estimate of ∫ f·Li·cos θi dωi at ctx by `strategy`
 // (one of the direct-lighting strategies).

@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "core/environment_map.h"
+#include "core/strategy.h"
 #include "core/vec3.h"
-#include "renderer/render.h"
 
 namespace furnace {
 

@@ -14,9 +14,9 @@
 #include <array>
 
 #include "core/scene.h"
+#include "core/strategy.h"
 #include "renderer/bsdf.h"
 #include "renderer/embree_scene.h"
-#include "renderer/render.h"
 #include "renderer/rng.h"
 
 namespace furnace {

@@ -15,7 +15,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "renderer/render.h"
+#include "renderer/image.h"
 
 namespace furnace {
 

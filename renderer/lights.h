@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/scene.h"
-#include "renderer/render.h"
+#include "core/strategy.h"
 #include "renderer/environment_sampler.h"
 
 namespace furnace {

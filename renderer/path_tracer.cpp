@@ -5,12 +5,13 @@
 namespace furnace {
 
 namespace {
-constexpr int kPowerHeuristic = 2;  // β of Veach's power heuristic
+// β of path_mis's MIS heuristic (the strategy table's).
+constexpr int kPathMisBeta = strategy_info(Strategy::kPathMis).mis_beta;
 }  // namespace
 
 PathTracer::PathTracer(const EmbreeScene& scene, const LightSet& lights, const RenderOptions& options)
     : scene_(scene),
-      next_event_(options.strategy == Strategy::kPathMis),
+      next_event_(is_path_tracer(options.strategy) && samples_lights(options.strategy)),
       max_depth_(options.max_depth),
       roulette_depth_(options.roulette_depth),
       defect_(options.defect) {
@@ -40,7 +41,7 @@ double PathTracer::radiance(const Vec3& direction, const std::optional<SurfaceHi
       double w = 1;
       // DEFECT(double_count_emission): weight 1 here although the light sample also counts this emission.
       if (next_event_ && !previous_delta && defect_ != Defect::kDoubleCountEmission)
-        w = mis_weight(previous_pdf_bsdf, light_.pdf(*previous, wi_world, hit), kPowerHeuristic);
+        w = mis_weight(previous_pdf_bsdf, light_.pdf(*previous, wi_world, hit), kPathMisBeta);
       radiance += throughput * w * le;
     }
     if (!hit || depth >= max_depth_) break;
@@ -55,7 +56,7 @@ double PathTracer::radiance(const Vec3& direction, const std::optional<SurfaceHi
           // A point light (delta) is found by light sampling only: weight 1.
           const double p_bsdf = bsdf_.pdf(ctx, s->wi_world);
           const double w = s->delta ? delta_light_mis_weight(*s, p_bsdf, defect_)
-                                    : mis_weight(s->pdf_solid_angle, p_bsdf, kPowerHeuristic);
+                                    : mis_weight(s->pdf_solid_angle, p_bsdf, kPathMisBeta);
           radiance += throughput * w * s->weight * s->radiance;
         }
       }

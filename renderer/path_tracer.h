@@ -15,6 +15,7 @@
 #include <optional>
 
 #include "renderer/direct_strategies.h"
+#include "renderer/render_options.h"
 
 namespace furnace {
 

@@ -24,47 +24,6 @@ namespace furnace {
 
 namespace {
 
-struct StrategyInfo {
-  Strategy strategy;
-  const char* name;
-};
-constexpr StrategyInfo kStrategies[] = {
-    {Strategy::kUniformHemisphere, "uniform_hemisphere"},
-    {Strategy::kCosineHemisphere, "cosine_hemisphere"},
-    {Strategy::kLightArea, "light_area"},
-    {Strategy::kLightSolidAngle, "light_solid_angle"},
-    {Strategy::kBsdf, "bsdf"},
-    {Strategy::kMisBalance, "mis_balance"},
-    {Strategy::kMisPower, "mis_power"},
-    {Strategy::kPathNaive, "path_naive"},
-    {Strategy::kPathMis, "path_mis"},
-    {Strategy::kMisOneSample, "mis_one_sample"},
-};
-
-struct DefectInfo {
-  Defect defect;
-  const char* name;
-};
-constexpr DefectInfo kDefects[] = {
-    {Defect::kNone, "none"},
-    {Defect::kDropLightCosine, "drop_light_cosine"},
-    {Defect::kPdfOffByConstant, "pdf_off_by_constant"},
-    {Defect::kSkipShadowRay, "skip_shadow_ray"},
-    {Defect::kRouletteNoReweight, "roulette_no_reweight"},
-    {Defect::kDoubleCountEmission, "double_count_emission"},
-    {Defect::kMisUnnormalisedWeight, "mis_unnormalised_weight"},
-    {Defect::kPointLightMisWeighted, "point_light_mis_weighted"},
-    {Defect::kPowerSelectionUniformPmf, "power_selection_uniform_pmf"},
-    {Defect::kOneSampleNoSelectionProb, "one_sample_no_selection_prob"},
-    {Defect::kEnvMissingSinTheta, "env_missing_sin_theta"},
-};
-
-bool is_path_tracer(Strategy s) { return s == Strategy::kPathNaive || s == Strategy::kPathMis; }
-bool samples_lights(Strategy s) {
-  return s == Strategy::kLightArea || s == Strategy::kLightSolidAngle || s == Strategy::kMisBalance ||
-         s == Strategy::kMisPower || s == Strategy::kPathMis || s == Strategy::kMisOneSample;
-}
-
 // Smallest TBB task, in pixels: one pixel already holds spp samples of work, so
 // the auto partitioner may split down to single pixels (tiny test images too).
 constexpr size_t kPixelGrain = 1;
@@ -85,55 +44,6 @@ void PixelMoments::add(double y) {
   m4 += term1 * delta_n2 * (n * n - 3 * n + 3) + 6 * delta_n2 * m2 - 4 * delta_n * m3;
   m3 += term1 * delta_n * (n - 2) - 3 * delta_n * m2;
   m2 += term1;
-}
-
-std::string strategy_name(Strategy s) {
-  for (const auto& info : kStrategies)
-    if (info.strategy == s) return info.name;
-  return fmt::format("strategy#{}", int(s));
-}
-
-Strategy parse_strategy(const std::string& name) {
-  std::string accepted;
-  for (const auto& info : kStrategies) {
-    if (name == info.name) return info.strategy;
-    accepted += accepted.empty() ? info.name : std::string(", ") + info.name;
-  }
-  throw Error(fmt::format("unknown strategy '{}'; the accepted names are {}.", name, accepted));
-}
-
-std::vector<Strategy> all_strategies() {
-  std::vector<Strategy> out;
-  for (const auto& info : kStrategies)
-    if (!is_path_tracer(info.strategy)) out.push_back(info.strategy);
-  return out;
-}
-
-std::vector<Strategy> path_tracing_strategies() { return {Strategy::kPathNaive, Strategy::kPathMis}; }
-
-bool strategy_sees_delta_lights(Strategy s) { return samples_lights(s); }
-
-std::string light_selection_name(LightSelection s) { return s == LightSelection::kPower ? "power" : "uniform"; }
-
-LightSelection parse_light_selection(const std::string& name) {
-  if (name == "uniform") return LightSelection::kUniform;
-  if (name == "power") return LightSelection::kPower;
-  throw Error(fmt::format("unknown light selection '{}'; the accepted names are uniform, power.", name));
-}
-
-std::string defect_name(Defect d) {
-  for (const auto& info : kDefects)
-    if (info.defect == d) return info.name;
-  return fmt::format("defect#{}", int(d));
-}
-
-Defect parse_defect(const std::string& name) {
-  std::string accepted;
-  for (const auto& info : kDefects) {
-    if (name == info.name) return info.defect;
-    accepted += accepted.empty() ? info.name : std::string(", ") + info.name;
-  }
-  throw Error(fmt::format("unknown defect '{}'; the accepted names are {}.", name, accepted));
 }
 
 Image render(const Scene& scene, const RenderOptions& options) {

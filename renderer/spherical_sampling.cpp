@@ -22,11 +22,6 @@ double angle_of(const Vec3& a, const Vec3& b) { return std::atan2(std::sqrt(leng
 // Unit component of v orthogonal to the unit vector a.
 Vec3 orthogonal_part(const Vec3& v, const Vec3& a) { return unit(v - a * dot(v, a)); }
 
-// Relative tolerance on perpendicular rectangle edges: scene files give edges
-// as decimal numbers, so exactly perpendicular inputs are perpendicular to
-// within a few ulps.
-constexpr double kPerpendicularTolerance = 1e-12;
-
 }  // namespace
 
 double spherical_triangle_solid_angle(const Vec3& a, const Vec3& b, const Vec3& c) {

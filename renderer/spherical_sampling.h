@@ -15,12 +15,9 @@
 #include <optional>
 
 #include "core/scene.h"
+#include "core/strategy.h"
 
 namespace furnace {
-
-// Below this solid angle (sr) the spherical maps' angle differences cancel:
-// Ω = α + β + γ − π loses log10(π/Ω) digits, 6 of 16 at 1e-6 sr.
-inline constexpr double kMinSampledSolidAngle = 1e-6;
 
 // Solid angle of the spherical triangle with unit vertices a, b, c
 // (Van Oosterom & Strackee 1983: tan(Ω/2) = |a·(b×c)| / (1 + a·b + b·c + c·a)).

@@ -10,6 +10,7 @@
 #include "analytic/moments.h"
 #include "analytic/reference.h"
 #include "core/error.h"
+#include "core/strategy.h"
 
 namespace furnace::verify {
 
@@ -43,20 +44,6 @@ std::optional<size_t> receiver_at(const Scene& scene, const Vec3& p, const Vec3&
   return std::nullopt;
 }
 
-struct EstimatorName {
-  analytic::Estimator estimator;
-  const char* name;
-};
-constexpr EstimatorName kEstimators[] = {
-    {analytic::Estimator::kUniformHemisphere, "uniform_hemisphere"},
-    {analytic::Estimator::kCosineHemisphere, "cosine_hemisphere"},
-    {analytic::Estimator::kLightArea, "light_area"},
-    {analytic::Estimator::kLightSolidAngle, "light_solid_angle"},
-    {analytic::Estimator::kMisBalance, "mis_balance"},
-    {analytic::Estimator::kMisPower, "mis_power"},
-    {analytic::Estimator::kMisOneSample, "mis_one_sample"},
-};
-
 }  // namespace
 
 std::string answer_analytic_query(const Scene& scene, const AnalyticQuery& q, bool json) {
@@ -80,10 +67,12 @@ std::string answer_analytic_query(const Scene& scene, const AnalyticQuery& q, bo
       "single-sample estimators of E: second moment E[Y^2] and variance Var Y = E[Y^2] - E^2\n",
       scene.name, q.point.x, q.point.y, q.point.z, q.normal.x, q.normal.y, q.normal.z,
       j["receiver"].get<std::string>(), e, albedo, radiance);
-  for (const EstimatorName& est : kEstimators) {
+  // Every strategy with its own variance model (bsdf shares cosine_hemisphere's).
+  for (const StrategyInfo& est : kStrategyTable) {
+    if (est.variance_model != est.strategy) continue;
     std::string moment_text, variance_text;
     try {
-      const double m2 = analytic::second_moment(est.estimator, scene, q.point, q.normal, receiver);
+      const double m2 = analytic::second_moment(est.strategy, scene, q.point, q.normal, receiver);
       const double variance = m2 - e * e;
       j["estimators"][est.name] = {{"second_moment", m2}, {"variance", variance}};
       moment_text = fmt::format("{:.17g}", m2);

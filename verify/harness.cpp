@@ -18,34 +18,9 @@ namespace furnace::verify {
 
 std::string scene_dir() { return FURNACE_SCENE_DIR; }
 
-namespace {
-bool is_path_tracer(Strategy s) {
-  for (Strategy p : path_tracing_strategies())
-    if (p == s) return true;
-  return false;
-}
-}  // namespace
-
 // Relative round-off of E[Y²] − E² (each a short sum of double products):
 // a predicted variance below this fraction of E² is taken as exactly 0.
 constexpr double kPredictedVarianceRoundOff = 64 * std::numeric_limits<double>::epsilon();
-
-// The analytic model of a direct strategy's single-sample estimator, where
-// analytic/moments.h has one. BSDF sampling of a Lambertian receiver is
-// cosine-weighted hemisphere sampling.
-std::optional<analytic::Estimator> analytic_estimator(Strategy s) {
-  switch (s) {
-    case Strategy::kUniformHemisphere: return analytic::Estimator::kUniformHemisphere;
-    case Strategy::kCosineHemisphere: return analytic::Estimator::kCosineHemisphere;
-    case Strategy::kBsdf: return analytic::Estimator::kCosineHemisphere;
-    case Strategy::kLightArea: return analytic::Estimator::kLightArea;
-    case Strategy::kLightSolidAngle: return analytic::Estimator::kLightSolidAngle;
-    case Strategy::kMisBalance: return analytic::Estimator::kMisBalance;
-    case Strategy::kMisPower: return analytic::Estimator::kMisPower;
-    case Strategy::kMisOneSample: return analytic::Estimator::kMisOneSample;
-    default: return std::nullopt;
-  }
-}
 
 // Hall's skewness-removing transformation of the studentised mean (Hall
 // 1992, "On the removal of skewness by transformation", JRSS B 54:221–228):
@@ -76,7 +51,7 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
     int max_depth;
     LightSelection selection = LightSelection::kUniform;
   };
-  std::vector<Strategy> direct = all_strategies();
+  std::vector<Strategy> direct = direct_strategies();
   std::vector<Strategy> paths = path_tracing_strategies();
   std::vector<Strategy> everything = direct;
   everything.insert(everything.end(), paths.begin(), paths.end());
@@ -89,28 +64,28 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
   for (Strategy s : everything)
     if (strategy_sees_delta_lights(s)) delta_aware.push_back(s);
   const std::vector<Entry> entries = {
-      {"disk_occluder.json", everything, analytic::kUnlimitedSegments},
-      {"sphere_light.json", direct, analytic::kUnlimitedSegments},
-      {"sphere_occluder.json", direct, analytic::kUnlimitedSegments},
-      {"rectangle_light.json", direct, analytic::kUnlimitedSegments},
-      {"environment_blocker.json", direct, analytic::kUnlimitedSegments},
-      {"three_lights.json", everything, analytic::kUnlimitedSegments},
-      {"three_lights.json", delta_aware, analytic::kUnlimitedSegments, LightSelection::kPower},
-      {"polygon_occluder.json", everything, analytic::kUnlimitedSegments},
-      {"environment_map.json", delta_aware, analytic::kUnlimitedSegments},
-      {"environment_map_tilted.json", delta_aware, analytic::kUnlimitedSegments},
-      {"point_light.json", delta_aware, analytic::kUnlimitedSegments},
-      {"point_light_unoccluded.json", delta_aware, analytic::kUnlimitedSegments},
-      {"point_and_area.json", delta_aware, analytic::kUnlimitedSegments},
-      {"point_and_area.json", delta_aware, analytic::kUnlimitedSegments, LightSelection::kPower},
-      {"white_furnace.json", paths, analytic::kUnlimitedSegments},
-      {"convex_furnace.json", paths, analytic::kUnlimitedSegments},
-      {"enclosure_box.json", paths, analytic::kUnlimitedSegments},
+      {"disk_occluder.json", everything, kUnlimitedDepth},
+      {"sphere_light.json", direct, kUnlimitedDepth},
+      {"sphere_occluder.json", direct, kUnlimitedDepth},
+      {"rectangle_light.json", direct, kUnlimitedDepth},
+      {"environment_blocker.json", direct, kUnlimitedDepth},
+      {"three_lights.json", everything, kUnlimitedDepth},
+      {"three_lights.json", delta_aware, kUnlimitedDepth, LightSelection::kPower},
+      {"polygon_occluder.json", everything, kUnlimitedDepth},
+      {"environment_map.json", delta_aware, kUnlimitedDepth},
+      {"environment_map_tilted.json", delta_aware, kUnlimitedDepth},
+      {"point_light.json", delta_aware, kUnlimitedDepth},
+      {"point_light_unoccluded.json", delta_aware, kUnlimitedDepth},
+      {"point_and_area.json", delta_aware, kUnlimitedDepth},
+      {"point_and_area.json", delta_aware, kUnlimitedDepth, LightSelection::kPower},
+      {"white_furnace.json", paths, kUnlimitedDepth},
+      {"convex_furnace.json", paths, kUnlimitedDepth},
+      {"enclosure_box.json", paths, kUnlimitedDepth},
       {"enclosure_box.json", paths, 4},
-      {"enclosure_box_rho5.json", paths, analytic::kUnlimitedSegments},
-      {"enclosure_sphere.json", paths, analytic::kUnlimitedSegments},
-      {"enclosure_blockers.json", paths, analytic::kUnlimitedSegments},
-      {"mirror_disk.json", paths, analytic::kUnlimitedSegments},
+      {"enclosure_box_rho5.json", paths, kUnlimitedDepth},
+      {"enclosure_sphere.json", paths, kUnlimitedDepth},
+      {"enclosure_blockers.json", paths, kUnlimitedDepth},
+      {"mirror_disk.json", paths, kUnlimitedDepth},
   };
   std::vector<Case> cases;
   for (const Entry& e : entries) {
@@ -139,7 +114,7 @@ Verdict run_case(const Case& c, double per_case_alpha) {
   v.scene = scene.name;
   v.strategy = strategy_name(c.options.strategy);
   if (is_path_tracer(c.options.strategy))
-    v.strategy += c.options.max_depth == analytic::kUnlimitedSegments ? "/inf" : "/d" + std::to_string(c.options.max_depth);
+    v.strategy += c.options.max_depth == kUnlimitedDepth ? "/inf" : "/d" + std::to_string(c.options.max_depth);
   if (c.options.light_selection == LightSelection::kPower) v.strategy += "@power";
   v.defect = defect_name(c.options.defect);
   v.spp = c.options.spp;
@@ -152,17 +127,13 @@ Verdict run_case(const Case& c, double per_case_alpha) {
   // Predicted per-pixel variances, when the strategy has an analytic model
   // and analytic/ solves this scene's second moments.
   std::vector<double> predicted_variance;
-  // The light-selection pmf, re-derived in analytic/ (point_light.h).
-  const analytic::LightSelection selection = c.options.light_selection == LightSelection::kPower
-                                                 ? analytic::LightSelection::kPower
-                                                 : analytic::LightSelection::kUniform;
-  if (const auto estimator = analytic_estimator(c.options.strategy); estimator && c.options.defect == Defect::kNone) {
+  if (has_variance_model(c.options.strategy) && c.options.defect == Defect::kNone) {
     try {
       predicted_variance.resize(reference.size());
       for (int py = 0; py < image.height; ++py)
         for (int px = 0; px < image.width; ++px) {
           const size_t i = size_t(py) * image.width + px;
-          const double m2 = analytic::pixel_center_second_moment(*estimator, scene, px, py, selection);
+          const double m2 = analytic::pixel_center_second_moment(c.options.strategy, scene, px, py, c.options.light_selection);
           const double e2 = reference[i] * reference[i];
           // An exact estimator (a lone point light) has E[Y²] = E², computed
           // along two double paths: a difference within round-off is zero.

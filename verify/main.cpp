@@ -67,7 +67,7 @@ int run_verify(std::vector<std::string> scenes, std::vector<std::string> strateg
   }
   const bool all_direct = strategies.empty();
   if (!scenes.empty() && strategies.empty())
-    for (Strategy s : all_strategies()) strategies.push_back(strategy_name(s));
+    for (Strategy s : direct_strategies()) strategies.push_back(strategy_name(s));
   for (const std::string& path : scenes) {
     const Scene scene = load_scene(path);  // fail fast on a bad file, before any rendering
     for (const std::string& name : strategies) {

@@ -50,7 +50,7 @@ ConvergenceSeries measure_convergence(const Case& c, int min_spp, int max_spp) {
   ConvergenceSeries series;
   series.scene = scene.name;
   series.strategy = strategy_name(c.options.strategy);
-  if (c.options.max_depth != analytic::kUnlimitedSegments)
+  if (c.options.max_depth != kUnlimitedDepth)
     series.strategy += "/d" + std::to_string(c.options.max_depth);
   std::vector<double> log_spp, log_rmse;
   for (int spp = min_spp; spp <= max_spp; spp *= 2) {

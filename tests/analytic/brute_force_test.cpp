@@ -130,7 +130,7 @@ TEST_P(ExactPathBruteForce, MatchesRayCastAreaIntegral) {
   ASSERT_GT(expected, 0);
   EXPECT_LE(std::fabs(exact - expected) / expected, 1e-10) << exact << " vs " << expected;
   // Uniform-hemisphere second moment: E[Y²] = 2π L² ∫_visible cos²θ dω.
-  const double moment = second_moment(Estimator::kUniformHemisphere, scene, c.p, n, size_t(0));
+  const double moment = second_moment(Strategy::kUniformHemisphere, scene, c.p, n, size_t(0));
   const double le = scene.objects[1].emitted_radiance;
   const double expected_moment = 2 * kPi * le * brute_force(scene, 1, c.p, n, 2);  // brute_force includes one L
   EXPECT_LE(std::fabs(moment - expected_moment) / expected_moment, 1e-10) << moment << " vs " << expected_moment;

@@ -243,7 +243,7 @@ TEST(EnvironmentMapScene, RefusesBlockers) {
     EXPECT_NE(msg.find("'blocker'"), std::string::npos) << msg;
   }
   EXPECT_THROW(reference_image(scene), Error);
-  EXPECT_THROW(second_moment(Estimator::kLightArea, scene, {0, 0, 0}, {0, 0, 1}, 0), Error);
+  EXPECT_THROW(second_moment(Strategy::kLightArea, scene, {0, 0, 0}, {0, 0, 1}, 0), Error);
 }
 
 // The moments are the kernels scaled as environment_map.h states; the

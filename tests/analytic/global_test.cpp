@@ -34,7 +34,7 @@ TEST(UniformEnclosure, ClosedFormMatchesExplicitNeumannSum) {
 }
 
 TEST(UniformEnclosure, Limits) {
-  EXPECT_DOUBLE_EQ(uniform_enclosure_radiance(3, 0.9, kUnlimitedSegments), 3 / (1 - 0.9));
+  EXPECT_DOUBLE_EQ(uniform_enclosure_radiance(3, 0.9, kUnlimitedDepth), 3 / (1 - 0.9));
   EXPECT_EQ(uniform_enclosure_radiance(3, 1.0, 7), 21.0);  // ρ = 1: k terms of Le
   EXPECT_EQ(uniform_enclosure_radiance(3, 0.0, 5), 3.0);   // black walls: emission only
   // ρ → 1 at finite depth: no cancellation in 1 − ρ^k (relative 1e-15 away from k·Le).
@@ -45,7 +45,7 @@ TEST(UniformEnclosure, Limits) {
 TEST(ConvexFurnace, OneBounceOfTheEnvironment) {
   EXPECT_EQ(convex_furnace_radiance(2, 0.6, 1), 0.0);
   EXPECT_DOUBLE_EQ(convex_furnace_radiance(2, 0.6, 2), 1.2);
-  EXPECT_DOUBLE_EQ(convex_furnace_radiance(2, 0.6, kUnlimitedSegments), 1.2);
+  EXPECT_DOUBLE_EQ(convex_furnace_radiance(2, 0.6, kUnlimitedDepth), 1.2);
 }
 
 const char* kBlockerScene = R"({
@@ -65,7 +65,7 @@ const char* kBlockerScene = R"({
 
 TEST(GlobalReference, EnclosureWithTwoSidedBlockerIsUniform) {
   const Scene scene = parse_scene(kBlockerScene, "blocker.json");
-  for (double v : global_reference_image(scene, kUnlimitedSegments)) EXPECT_DOUBLE_EQ(v, 2.0);
+  for (double v : global_reference_image(scene, kUnlimitedDepth)) EXPECT_DOUBLE_EQ(v, 2.0);
   for (double v : global_reference_image(scene, 3)) EXPECT_DOUBLE_EQ(v, 1.75);
 }
 
@@ -77,7 +77,7 @@ TEST(GlobalReference, OneSidedInteriorEmitterIsRefused) {
   text.erase(text.find(two_sided), two_sided.size());
   const Scene scene = parse_scene(text, "blocker.json");
   try {
-    global_reference_image(scene, kUnlimitedSegments);
+    global_reference_image(scene, kUnlimitedDepth);
     FAIL() << "accepted a one-sided interior emitter";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("'card'"), std::string::npos) << e.what();

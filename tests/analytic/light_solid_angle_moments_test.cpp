@@ -101,7 +101,7 @@ class LightSolidAngleMoment : public testing::TestWithParam<Case> {};
 TEST_P(LightSolidAngleMoment, MatchesSurfaceQuadrature) {
   const Case& c = GetParam();
   const Scene scene = lights_scene({light("light", c.shape, c.le, c.two_sided)});
-  const double value = second_moment(Estimator::kLightSolidAngle, scene, c.p, c.n, std::nullopt);
+  const double value = second_moment(Strategy::kLightSolidAngle, scene, c.p, c.n, std::nullopt);
   const Brute b = brute_force(c);
   const double expected = b.omega * c.le * c.le * b.cos2;
   ASSERT_GT(expected, 0);
@@ -134,7 +134,7 @@ TEST(LightSolidAngleMomentScene, SumsTermsWithSelectionCount) {
       testing_support::patch_projected_solid_angle(testing_support::triangle_patch(t.p0, t.p1, t.p2), p, n);
   const double e_env = l_env * (kPi - hidden - hidden_b);
   const double expected = 3 * (ba.omega * a.le * a.le * ba.cos2 + bb.omega * b.le * b.le * bb.cos2) + 3 * kPi * l_env * e_env;
-  const double value = second_moment(Estimator::kLightSolidAngle, scene, p, n, std::nullopt);
+  const double value = second_moment(Strategy::kLightSolidAngle, scene, p, n, std::nullopt);
   EXPECT_LE(relative_error(value, expected), 1e-9) << value << " vs " << expected;
 }
 
@@ -146,9 +146,9 @@ TEST(LightSolidAngleMomentScene, AreaFallbacksEqualLightArea) {
                              Shape{Rectangle{{-0.5, -0.5, 1.2}, {0, 1, 0}, {1, 0.3, 0}}},
                              Shape{Triangle{{0, 0, 1000}, {0, 1e-3, 1000}, {1e-3, 0, 1000}}}}) {
     const Scene scene = lights_scene({light("light", shape, 2.0)});
-    const double area = second_moment(Estimator::kLightArea, scene, p, n, std::nullopt);
+    const double area = second_moment(Strategy::kLightArea, scene, p, n, std::nullopt);
     ASSERT_GT(area, 0);
-    EXPECT_EQ(second_moment(Estimator::kLightSolidAngle, scene, p, n, std::nullopt), area);
+    EXPECT_EQ(second_moment(Strategy::kLightSolidAngle, scene, p, n, std::nullopt), area);
   }
 }
 
@@ -156,7 +156,7 @@ TEST(LightSolidAngleMomentScene, AreaFallbacksEqualLightArea) {
 TEST(LightSolidAngleMomentScene, RefusesOccludedSphere) {
   Scene scene = lights_scene({light("light", Sphere{{0, 0, 2}, 0.5}, 2.0)});
   scene.objects.push_back({"blocker", Sphere{{0, 0, 1}, 0.2}, {}, 0});
-  EXPECT_THROW(second_moment(Estimator::kLightSolidAngle, scene, {0, 0, 0}, {0, 0, 1}, std::nullopt), Error);
+  EXPECT_THROW(second_moment(Strategy::kLightSolidAngle, scene, {0, 0, 0}, {0, 0, 1}, std::nullopt), Error);
 }
 
 // ---------------------------------------------------------------------------
@@ -235,7 +235,7 @@ class LightSolidAngleMonteCarlo : public testing::TestWithParam<Case> {};
 TEST_P(LightSolidAngleMonteCarlo, VarianceMatchesSimulation) {
   const Case& c = GetParam();
   const Scene scene = lights_scene({light("light", c.shape, c.le, c.two_sided)});
-  const double m2 = second_moment(Estimator::kLightSolidAngle, scene, c.p, c.n, std::nullopt);
+  const double m2 = second_moment(Strategy::kLightSolidAngle, scene, c.p, c.n, std::nullopt);
   const double e = irradiance(scene, c.p, c.n, std::nullopt);
   const Brute b = brute_force(c);
   const MonteCarlo mc = simulate(c, b.omega);

@@ -203,7 +203,7 @@ TEST_P(MisMoment, VarianceMatchesSimulation) {
   const double e = irradiance(scene, kP, kN, std::nullopt);
   const double z_crit = z_critical(4 * cases().size());
   for (int beta : {1, 2}) {
-    const Estimator est = beta == 1 ? Estimator::kMisBalance : Estimator::kMisPower;
+    const Strategy est = beta == 1 ? Strategy::kMisBalance : Strategy::kMisPower;
     const double predicted = second_moment(est, scene, kP, kN, std::nullopt) - e * e;
     const Moments mc = simulate(c, beta);
     const double z_mean = (mc.mean - e) / mc.mean_se, z_var = (mc.variance - predicted) / mc.variance_se;
@@ -224,7 +224,7 @@ TEST(MisMomentControl, BalanceSimulationRejectsPowerPrediction) {
   const Case c = cases()[0];
   const Scene scene = scene_of(c);
   const double e = irradiance(scene, kP, kN, std::nullopt);
-  const double wrong = second_moment(Estimator::kMisPower, scene, kP, kN, std::nullopt) - e * e;
+  const double wrong = second_moment(Strategy::kMisPower, scene, kP, kN, std::nullopt) - e * e;
   const Moments mc = simulate(c, 1);
   const double z = (mc.variance - wrong) / mc.variance_se;
   const double z_crit = z_critical(4 * cases().size());
@@ -239,7 +239,7 @@ TEST(MisMomentLimits, LoneSkyHasZeroVariance) {
   Scene scene;
   scene.environment.radiance = 1.3;
   const double e = irradiance(scene, kP, kN, std::nullopt);
-  for (Estimator est : {Estimator::kMisBalance, Estimator::kMisPower})
+  for (Strategy est : {Strategy::kMisBalance, Strategy::kMisPower})
     EXPECT_LE(std::fabs(second_moment(est, scene, kP, kN, std::nullopt) - e * e), 8 * kEps * e * e);
 }
 
@@ -247,7 +247,7 @@ TEST(MisMomentLimits, LoneSkyHasZeroVariance) {
 TEST(MisMomentLimits, RefusesOccludedLight) {
   Scene scene = scene_of(cases()[0]);
   scene.objects.push_back({"blocker", Sphere{{0.3, -0.2, 1.0}, 0.2}, {}, 0});
-  EXPECT_THROW(second_moment(Estimator::kMisBalance, scene, kP, kN, std::nullopt), Error);
+  EXPECT_THROW(second_moment(Strategy::kMisBalance, scene, kP, kN, std::nullopt), Error);
 }
 
 }  // namespace

@@ -66,13 +66,13 @@ std::vector<SceneSpec> all_specs() {
 
 enum class Which { kUniformHemisphere, kCosineHemisphere, kLightArea };
 
-Estimator to_estimator(Which w) {
+Strategy to_estimator(Which w) {
   switch (w) {
-    case Which::kUniformHemisphere: return Estimator::kUniformHemisphere;
-    case Which::kCosineHemisphere: return Estimator::kCosineHemisphere;
-    case Which::kLightArea: return Estimator::kLightArea;
+    case Which::kUniformHemisphere: return Strategy::kUniformHemisphere;
+    case Which::kCosineHemisphere: return Strategy::kCosineHemisphere;
+    case Which::kLightArea: return Strategy::kLightArea;
   }
-  return Estimator::kLightArea;
+  return Strategy::kLightArea;
 }
 std::string which_name(Which w) {
   switch (w) {
@@ -147,9 +147,9 @@ TEST(SecondMomentLimits, CosineSamplingOfConstantSkyHasZeroVariance) {
   scene.objects.push_back({"floor", Rectangle{{-1, -1, 0}, {2, 0, 0}, {0, 2, 0}}, {BsdfType::kLambertian, 0.5, 0}, 0});
   scene.environment.radiance = 1.7;
   const double e = irradiance(scene, {0, 0, 0}, {0, 0, 1}, size_t(0));
-  EXPECT_EQ(second_moment(Estimator::kCosineHemisphere, scene, {0, 0, 0}, {0, 0, 1}, size_t(0)), e * e);
+  EXPECT_EQ(second_moment(Strategy::kCosineHemisphere, scene, {0, 0, 0}, {0, 0, 1}, size_t(0)), e * e);
   // Uniform hemisphere: E[Y²] = 2π·L²·2π/3, so E[Y²]/E² = 4/3 exactly in form.
-  const double m = second_moment(Estimator::kUniformHemisphere, scene, {0, 0, 0}, {0, 0, 1}, size_t(0));
+  const double m = second_moment(Strategy::kUniformHemisphere, scene, {0, 0, 0}, {0, 0, 1}, size_t(0));
   EXPECT_NEAR(m / (e * e), 4.0 / 3.0, 4 * kEps);
 }
 
@@ -159,7 +159,7 @@ TEST(SecondMomentLimits, AreaSamplingOfTinyLightHasVanishingVariance) {
   const SceneSpec spec{"Tiny", 1.0, 1e-4, 3.0, {}, {0.2, 0.1, 0}};
   const Scene scene = build(spec);
   const double e = irradiance(scene, spec.p, {0, 0, 1}, size_t(0));
-  const double m = second_moment(Estimator::kLightArea, scene, spec.p, {0, 0, 1}, size_t(0));
+  const double m = second_moment(Strategy::kLightArea, scene, spec.p, {0, 0, 1}, size_t(0));
   EXPECT_LT(m / (e * e) - 1, 1e-7);
   EXPECT_GE(m / (e * e) - 1, -1e-12);
 }
@@ -170,7 +170,7 @@ TEST(PixelSecondMoment, IsScaledIrradianceMoment) {
   const Camera::Ray ray = scene.camera.pixel_center_ray(16, 16);
   const Vec3 p = ray.origin + ray.direction * (ray.origin.z / -ray.direction.z);
   const double k = 0.5 * kInvPi;
-  for (Estimator est : {Estimator::kUniformHemisphere, Estimator::kCosineHemisphere, Estimator::kLightArea}) {
+  for (Strategy est : {Strategy::kUniformHemisphere, Strategy::kCosineHemisphere, Strategy::kLightArea}) {
     const double m = second_moment(est, scene, p, {0, 0, 1}, size_t(0));
     EXPECT_NEAR(pixel_center_second_moment(est, scene, 16, 16), k * k * m, 4 * kEps * k * k * m);
   }

@@ -87,20 +87,20 @@ TEST(PointLight, LightAreaSecondMomentIsESquaredOverPmf) {
   ASSERT_GT(e0, 0.0);
   ASSERT_GT(e1, 0.0);
   // Uniform: pmf 1/2 each; the estimator is 2·E_l with probability 1/2.
-  EXPECT_NEAR(second_moment(Estimator::kLightArea, s, p, n, 0), 2 * (e0 * e0 + e1 * e1), 8 * kEps * (e0 * e0 + e1 * e1));
+  EXPECT_NEAR(second_moment(Strategy::kLightArea, s, p, n, 0), 2 * (e0 * e0 + e1 * e1), 8 * kEps * (e0 * e0 + e1 * e1));
   // Power: pmf I_l/ΣI (both point lights: Φ = 4π·I).
   const double p0 = 3.0 / 12.0, p1 = 9.0 / 12.0;
   const double expected = e0 * e0 / p0 + e1 * e1 / p1;
-  EXPECT_NEAR(second_moment(Estimator::kLightArea, s, p, n, 0, LightSelection::kPower), expected, 8 * kEps * expected);
+  EXPECT_NEAR(second_moment(Strategy::kLightArea, s, p, n, 0, LightSelection::kPower), expected, 8 * kEps * expected);
   // A single point light is sampled exactly: E[Y²] = E².
   s.point_lights.pop_back();
-  EXPECT_NEAR(second_moment(Estimator::kLightArea, s, p, n, 0), e0 * e0, 4 * kEps * e0 * e0);
+  EXPECT_NEAR(second_moment(Strategy::kLightArea, s, p, n, 0), e0 * e0, 4 * kEps * e0 * e0);
 }
 
 TEST(PointLight, HemisphereMomentsRefusePointLights) {
   const Scene s = shadow_scene();
-  EXPECT_THROW(second_moment(Estimator::kUniformHemisphere, s, {1, 1, 0}, {0, 0, 1}, 0), Error);
-  EXPECT_THROW(second_moment(Estimator::kCosineHemisphere, s, {1, 1, 0}, {0, 0, 1}, 0), Error);
+  EXPECT_THROW(second_moment(Strategy::kUniformHemisphere, s, {1, 1, 0}, {0, 0, 1}, 0), Error);
+  EXPECT_THROW(second_moment(Strategy::kCosineHemisphere, s, {1, 1, 0}, {0, 0, 1}, 0), Error);
 }
 
 TEST(PointLight, PowerPmfOfEveryKindOfLight) {

@@ -226,7 +226,7 @@ TEST(SceneEnvironment, BlockersSubtractTheirProjectedSolidAngle) {
     const double e = irradiance(scene, p, kUp, size_t(0));
     EXPECT_LE(relative_error(e, l_env * (kPi - b.omega)), 1e-11);
     // Cosine sampling of a sky: E[Y²] = π·L_env·E_env.
-    EXPECT_LE(relative_error(second_moment(Estimator::kCosineHemisphere, scene, p, kUp, size_t(0)), kPi * l_env * e),
+    EXPECT_LE(relative_error(second_moment(Strategy::kCosineHemisphere, scene, p, kUp, size_t(0)), kPi * l_env * e),
               4 * kEps);
   }
 }

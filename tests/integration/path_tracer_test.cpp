@@ -32,7 +32,7 @@ namespace {
 constexpr uint64_t kSeed = 0x9a7e2026;  // fixed: a pass today fails only when the code changes
 constexpr double kCaseAlpha = 1e-3;
 constexpr double kComparisonAlpha = 1e-3;
-constexpr int kUnlimited = analytic::kUnlimitedSegments;
+constexpr int kUnlimited = kUnlimitedDepth;
 // Scenes are 16×16 = 256 pixels; 256 spp gives 65,536 paths per image, so the
 // image-mean test resolves relative biases of about 1–2 % (printed per case).
 constexpr int kSpp = 256;

@@ -34,7 +34,7 @@ std::string camel(const std::string& snake) {
 }
 
 std::vector<Strategy> every_strategy() {
-  std::vector<Strategy> s = all_strategies();
+  std::vector<Strategy> s = direct_strategies();
   for (Strategy p : path_tracing_strategies()) s.push_back(p);
   return s;
 }

@@ -1,0 +1,200 @@
+// The vocabulary every layer shares: the sampling strategies and their
+// properties (one table), how lights are selected, the negative-control
+// defects, path depth ("unlimited" spelled once) and the constants of the
+// renderer's sampling contract that analytic/ must model.
+//
+// renderer/ implements the strategies, analytic/ models their moments and
+// verify/ decides which references and tests apply, all from this table: a
+// new strategy is one row here plus its implementation (and, if it has a
+// variance model, its second moment in analytic/moments.cpp).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace furnace {
+
+// Sampling strategies. Values are stable (never renumber); names are the CLI's.
+enum class Strategy {
+  kUniformHemisphere,
+  kCosineHemisphere,
+  kLightArea,
+  kLightSolidAngle,
+  kBsdf,
+  kMisBalance,
+  kMisPower,
+  kPathNaive,
+  kPathMis,
+  kMisOneSample,
+};
+
+// What a strategy estimates. A direct strategy estimates Y = Le + ∫ f·Li·cos dω
+// at the first hit, Li the radiance emitted by the first surface or the
+// environment seen along ωi (the quantity analytic::reference_image gives); a
+// path tracer estimates full global illumination (analytic::global_reference_image).
+enum class StrategyKind { kDirect, kPath };
+
+struct StrategyInfo {
+  Strategy strategy;
+  const char* name;
+  StrategyKind kind;
+  // Draws explicit light samples: needs a light (an emitter, a point light or
+  // the environment) and is the only kind that finds delta (point) lights.
+  bool samples_lights;
+  // The strategy whose single-sample second moment analytic/moments.h models
+  // for this one on a Lambertian receiver (bsdf sampling of a Lambertian
+  // surface is cosine sampling), or none.
+  std::optional<Strategy> variance_model;
+  // MIS heuristic exponent β of w_s = p_s^β / Σ p^β (1 balance, 2 power);
+  // 0 for strategies that are not multi-sample MIS.
+  int mis_beta;
+  const char* description;  // one line, for --help and the README
+};
+
+// The table, in the order the CLI lists and the suite runs the strategies.
+inline constexpr std::array<StrategyInfo, 10> kStrategyTable = {{
+    {Strategy::kUniformHemisphere, "uniform_hemisphere", StrategyKind::kDirect, false, Strategy::kUniformHemisphere, 0,
+     "directions uniform on the hemisphere, pdf 1/(2π) per sr"},
+    {Strategy::kCosineHemisphere, "cosine_hemisphere", StrategyKind::kDirect, false, Strategy::kCosineHemisphere, 0,
+     "cosine-weighted directions, pdf cos θ/π per sr"},
+    {Strategy::kLightArea, "light_area", StrategyKind::kDirect, true, Strategy::kLightArea, 0,
+     "a point uniform on a chosen emitter's area, plus a shadow ray"},
+    {Strategy::kLightSolidAngle, "light_solid_angle", StrategyKind::kDirect, true, Strategy::kLightSolidAngle, 0,
+     "uniform in the solid angle of spheres (cone), triangles and rectangles; area sampling otherwise"},
+    {Strategy::kBsdf, "bsdf", StrategyKind::kDirect, false, Strategy::kCosineHemisphere, 0,
+     "the surface's BSDF sampling (cosine for Lambertian, lobe for Phong, the mirror direction)"},
+    {Strategy::kMisBalance, "mis_balance", StrategyKind::kDirect, true, Strategy::kMisBalance, 1,
+     "one BSDF and one light_solid_angle sample, balance heuristic"},
+    {Strategy::kMisPower, "mis_power", StrategyKind::kDirect, true, Strategy::kMisPower, 2,
+     "one BSDF and one light_solid_angle sample, power heuristic (β = 2)"},
+    {Strategy::kMisOneSample, "mis_one_sample", StrategyKind::kDirect, true, Strategy::kMisOneSample, 0,
+     "BSDF or light_solid_angle sampling chosen with probability 1/2, one-sample balance heuristic"},
+    {Strategy::kPathNaive, "path_naive", StrategyKind::kPath, false, std::nullopt, 0,
+     "path tracer: BSDF sampling, emission on hit, Russian roulette"},
+    {Strategy::kPathMis, "path_mis", StrategyKind::kPath, true, std::nullopt, 2,
+     "path tracer: next-event estimation with the power heuristic, Russian roulette"},
+}};
+
+// Every enumerator 0 … kStrategyTable.size() − 1 has exactly one row.
+constexpr bool every_strategy_has_one_row() {
+  for (size_t v = 0; v < kStrategyTable.size(); ++v) {
+    int rows = 0;
+    for (const StrategyInfo& info : kStrategyTable) rows += info.strategy == Strategy(v);
+    if (rows != 1) return false;
+  }
+  return true;
+}
+static_assert(every_strategy_has_one_row(), "kStrategyTable needs one row per Strategy");
+
+// The row of a strategy.
+constexpr const StrategyInfo& strategy_info(Strategy s) {
+  for (const StrategyInfo& info : kStrategyTable)
+    if (info.strategy == s) return info;
+  return kStrategyTable[0];  // unreachable: the static_assert above
+}
+inline std::string strategy_name(Strategy s) { return strategy_info(s).name; }
+inline bool is_path_tracer(Strategy s) { return strategy_info(s).kind == StrategyKind::kPath; }
+inline bool samples_lights(Strategy s) { return strategy_info(s).samples_lights; }
+// Only strategies that sample lights explicitly see delta lights; render()
+// refuses the others on scenes with point lights (their estimate would
+// silently miss that light).
+inline bool strategy_sees_delta_lights(Strategy s) { return samples_lights(s); }
+inline bool has_variance_model(Strategy s) { return strategy_info(s).variance_model.has_value(); }
+// Throws furnace::Error naming the value and the accepted names.
+Strategy parse_strategy(const std::string& name);
+// The direct-lighting strategies and the path tracers, in table order.
+std::vector<Strategy> direct_strategies();
+std::vector<Strategy> path_tracing_strategies();
+// Name → value, for CLI11's CheckedTransformer.
+std::map<std::string, Strategy> strategy_names();
+
+// How light-sampling strategies choose one light among the scene's lights.
+enum class LightSelection {
+  kUniform,  // "uniform": pmf 1/K over the K lights
+  kPower,    // "power": pmf proportional to each light's emitted power
+};
+std::string light_selection_name(LightSelection s);
+LightSelection parse_light_selection(const std::string& name);
+std::map<std::string, LightSelection> light_selection_names();
+
+// Deliberately wrong variants, for negative controls only. kNone is the
+// renderer; every other value must make the verification fail.
+enum class Defect {
+  kNone,
+  kDropLightCosine,
+  kPdfOffByConstant,
+  kSkipShadowRay,
+  kRouletteNoReweight,
+  kDoubleCountEmission,
+  kMisUnnormalisedWeight,
+  kPointLightMisWeighted,
+  kPowerSelectionUniformPmf,
+  kOneSampleNoSelectionProb,
+  kEnvMissingSinTheta,
+};
+
+struct DefectInfo {
+  Defect defect;
+  const char* name;
+  const char* description;
+};
+inline constexpr std::array<DefectInfo, 11> kDefectTable = {{
+    {Defect::kNone, "none", "the renderer as it is"},
+    {Defect::kDropLightCosine, "drop_light_cosine", "light_area forgets cos θ' (the area to solid angle Jacobian)"},
+    {Defect::kPdfOffByConstant, "pdf_off_by_constant", "the weight divides by 1.1 × the true pdf"},
+    {Defect::kSkipShadowRay, "skip_shadow_ray", "light_area treats every light sample as visible"},
+    {Defect::kRouletteNoReweight, "roulette_no_reweight",
+     "Russian-roulette survivors not divided by the survival probability"},
+    {Defect::kDoubleCountEmission, "double_count_emission",
+     "path_mis counts emission found by BSDF continuation with weight 1 as well as the light sample's share"},
+    {Defect::kMisUnnormalisedWeight, "mis_unnormalised_weight",
+     "MIS weights divided by the larger density instead of the sum"},
+    {Defect::kPointLightMisWeighted, "point_light_mis_weighted",
+     "MIS weighs a point-light (delta) sample like an area sample, by pmf/(pmf + p_bsdf)"},
+    {Defect::kPowerSelectionUniformPmf, "power_selection_uniform_pmf",
+     "lights chosen by power, weights divided by the uniform pmf 1/K"},
+    {Defect::kOneSampleNoSelectionProb, "one_sample_no_selection_prob",
+     "mis_one_sample divides by p_bsdf + p_light, forgetting the selection probabilities c and 1 − c"},
+    {Defect::kEnvMissingSinTheta, "env_missing_sin_theta",
+     "environment-map rows chosen without the sin θ Jacobian while the weight uses the stated density"},
+}};
+constexpr bool every_defect_has_one_row() {
+  for (size_t v = 0; v < kDefectTable.size(); ++v) {
+    int rows = 0;
+    for (const DefectInfo& info : kDefectTable) rows += info.defect == Defect(v);
+    if (rows != 1) return false;
+  }
+  return true;
+}
+static_assert(every_defect_has_one_row(), "kDefectTable needs one row per Defect");
+std::string defect_name(Defect d);
+Defect parse_defect(const std::string& name);
+std::map<std::string, Defect> defect_names();
+
+// Path depth counts segments from the camera (the camera segment is 1).
+// The one spelling of "no limit": the full Neumann series in analytic/, no
+// cap in the renderer, the word "unlimited" on the command line.
+inline constexpr int kUnlimitedDepth = std::numeric_limits<int>::max();
+// "unlimited" or the number.
+std::string depth_name(int max_depth);
+
+// The renderer's sampling contract, which analytic/ models and must not
+// restate: light_solid_angle samples a spherical triangle or rectangle only
+// when its solid angle is at least kMinSampledSolidAngle (below it Ω = α + β
+// + γ − π loses log10(π/Ω) digits, 6 of 16 at 1e-6 sr) and falls back to
+// area sampling otherwise;
+inline constexpr double kMinSampledSolidAngle = 1e-6;
+// a parallelogram is a rectangle (spherical-rectangle sampling) when its
+// edges are perpendicular within this relative tolerance (scene files give
+// edges as decimals, perpendicular to within a few ulps);
+inline constexpr double kPerpendicularTolerance = 1e-12;
+// mis_one_sample takes the BSDF sample with probability c (else the light
+// sample): 1/2, the choice that needs no knowledge of the scene.
+inline constexpr double kOneSampleBsdfProbability = 0.5;
+
+}  // namespace furnace

@@ -1,0 +1,26 @@
+// What one render is asked to do: the strategy, the negative-control defect,
+// the light selection, the sample budget, the seed and the path depth.
+#pragma once
+
+#include <cstdint>
+
+#include "core/strategy.h"
+
+namespace furnace {
+
+struct RenderOptions {
+  Strategy strategy = Strategy::kLightArea;
+  Defect defect = Defect::kNone;
+  LightSelection light_selection = LightSelection::kUniform;
+  int spp = 64;
+  uint64_t seed = 1;
+  int threads = 0;  // 0: all hardware threads (tbb::global_control otherwise)
+  // Path tracers only: the longest path in segments from the camera (the
+  // camera segment counts as 1; kUnlimitedDepth: no cap), and the depth from
+  // which Russian roulette starts (survival probability min(1, throughput),
+  // reweighted by 1/p).
+  int max_depth = kUnlimitedDepth;
+  int roulette_depth = 3;
+};
+
+}  // namespace furnace
