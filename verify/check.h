@@ -97,6 +97,10 @@ struct ChannelCheck {
   bool image_mean_pass = false;
   // Pixel tests.
   int pixel_failures = 0;
+  // Constant across all samples (no spread at all) yet off the reference,
+  // while other pixels vary: a rare contribution never sampled (verify's
+  // harness rule). Not tested; the image-mean test still sees them.
+  int pixels_untested = 0;
   double pixel_alpha = 0;
   double pixel_threshold = 0;  // critical |t| of the median pixel (they differ with N for one furnace EXR)
   double pixel_dof = 0;        // of the median pixel
@@ -109,6 +113,7 @@ struct WorstPixel {
   std::string channel;
   double value = 0, reference = 0;
   double t = 0;  // ±inf: zero spread and not on the reference
+  bool untested = false;  // see ChannelCheck::pixels_untested
 };
 
 // How many images or samples would give the image-mean test its power,

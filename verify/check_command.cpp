@@ -92,6 +92,7 @@ json check_json(const Scene& scene, const std::string& scene_hash, const CheckRe
                         {"detectable_relative_bias", number(c.detectable_relative_bias)},
                         {"image_mean_pass", c.image_mean_pass},
                         {"pixel_failures", c.pixel_failures},
+                        {"pixels_untested", c.pixels_untested},
                         {"pixel_alpha", c.pixel_alpha},
                         {"pixel_threshold", number(c.pixel_threshold)},
                         {"pixel_dof", number(c.pixel_dof)},
@@ -104,7 +105,7 @@ json check_json(const Scene& scene, const std::string& scene_hash, const CheckRe
   json worst = json::array();
   for (const WorstPixel& w : r.worst_pixels)
     worst.push_back({{"x", w.x}, {"y", w.y}, {"channel", w.channel}, {"value", number(w.value)},
-                     {"reference", number(w.reference)}, {"t", number(w.t)}});
+                     {"reference", number(w.reference)}, {"t", number(w.t)}, {"untested", w.untested}});
   j["worst_pixels"] = worst;
   if (r.advice.needed)
     j["advice"] = {{"images_at_current_spp", r.advice.images_at_current_spp},
@@ -177,9 +178,11 @@ std::string format_check(const Scene& scene, const CheckReference& reference, co
                        power ? fmt::format("has power (<= {})", percent(r.max_detectable_bias))
                              : fmt::format("LOW POWER (> {})", percent(r.max_detectable_bias)));
     const bool pixel_power = c.median_pixel_detectable_relative_bias <= r.max_detectable_bias;
-    out += fmt::format("pixels{}: {}/{} fail (critical |t| {:.3g}, {}), median detectable pixel bias {}: {}; "
+    const std::string untested =
+        c.pixels_untested > 0 ? fmt::format(", {} untested (constant yet off the reference)", c.pixels_untested) : "";
+    out += fmt::format("pixels{}: {}/{} fail{} (critical |t| {:.3g}, {}), median detectable pixel bias {}: {}; "
                        "relative RMSE {:.3e}\n",
-                       label, c.pixel_failures, r.pixels, c.pixel_threshold, dof_text(c.pixel_dof),
+                       label, c.pixel_failures, r.pixels, untested, c.pixel_threshold, dof_text(c.pixel_dof),
                        percent(c.median_pixel_detectable_relative_bias),
                        pixel_power ? "have power"
                                    : fmt::format("low power (only local errors above {} are caught)",
@@ -188,7 +191,8 @@ std::string format_check(const Scene& scene, const CheckReference& reference, co
   }
   out += "worst pixels (x, y, channel: value, reference, t):\n";
   for (const WorstPixel& w : r.worst_pixels)
-    out += fmt::format("  ({}, {}) {}: {:.6g}, {:.6g}, {:.3g}\n", w.x, w.y, w.channel, w.value, w.reference, w.t);
+    out += fmt::format("  ({}, {}) {}: {:.6g}, {:.6g}, {:.3g}{}\n", w.x, w.y, w.channel, w.value, w.reference, w.t,
+                       w.untested ? " (untested)" : "");
   if (r.advice.needed) out += advice_text(r);
   out += fmt::format("verdict: {}\n", verdict_name(r.verdict));
   return out;
@@ -228,8 +232,14 @@ int run_check(const CheckOptions& options) {
       emit_json(options.json_path, check_json(scene, scene_hash, reference, images, r, warnings, options));
     return exit_code(r.verdict);
   } catch (const Error& e) {
-    if (!options.json_path.empty())
-      emit_json(options.json_path, {{"command", "check"}, {"verdict", "BAD INPUT"}, {"exit_code", 2}, {"error", e.what()}});
+    if (!options.json_path.empty()) {
+      try {
+        emit_json(options.json_path,
+                  {{"command", "check"}, {"verdict", "BAD INPUT"}, {"exit_code", 2}, {"error", e.what()}});
+      } catch (const Error& json_error) {  // the input error stays the one reported
+        std::fprintf(stderr, "furnace: error: %s\n", json_error.what());
+      }
+    }
     throw;
   }
 }

@@ -19,9 +19,11 @@
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 
 #include "core/atomic_file.h"
+#include "core/environment_map.h"
 #include "core/error.h"
 #include "core/exr.h"
 
@@ -236,6 +238,25 @@ TEST_F(ExrModule, ConcurrentWritersOfOneFileNeverMix) {
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_TRUE(text == a || text == b);
   EXPECT_EQ(files_in_dir(), 1u);
+}
+
+// The committed environment map loads through the module exactly as OpenEXR
+// itself reads it (an independent FLOAT read of the file's Y channel).
+TEST(ExrModuleCommittedFile, EnvironmentMapLoadsBitIdentically) {
+  const std::string path = std::string(FURNACE_SCENE_DIR) + "/environment_map.exr";
+  Imf::InputFile file(path.c_str());
+  const Imath::Box2i dw = file.header().dataWindow();
+  const int width = dw.max.x - dw.min.x + 1, height = dw.max.y - dw.min.y + 1;
+  std::vector<float> y(size_t(width) * height);
+  Imf::FrameBuffer frame;
+  frame.insert("Y", Imf::Slice::Make(Imf::FLOAT, y.data(), dw, sizeof(float)));
+  file.setFrameBuffer(frame);
+  file.readPixels(dw.min.y, dw.max.y);
+  const LatLongMap map = load_latlong_exr(path);
+  ASSERT_EQ(map.width, width);
+  ASSERT_EQ(map.height, height);
+  ASSERT_EQ(map.texels.size(), y.size());
+  for (size_t i = 0; i < y.size(); ++i) ASSERT_EQ(map.texels[i], double(y[i])) << i;
 }
 
 }  // namespace

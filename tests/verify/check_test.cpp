@@ -273,27 +273,31 @@ TEST_F(Check, OneFurnaceImageUsesItsVariance) {
 }
 
 TEST_F(Check, AdviceReachesTheThresholdWithTheImagesItNames) {
-  // Images whose mean alternates exactly ±0.2 %: the spread is known, so
-  // the advised K (even, to keep the pattern) must reach the threshold and K − 2 must not.
-  auto alternating = [&](int k) {
+  // K images whose means have sample standard deviation exactly `sd`
+  // (relative): half at 1 + a, half at 1 − a (one at 1 for odd K), a chosen
+  // so that s = sd. The advice from 2 such images must then name the K at
+  // which the check reaches the threshold, and K − 1 must fall short.
+  const double sd = 0.002, target = 0.004;
+  auto spread = [&](int k) {
+    const int pairs = k / 2;
+    const double a = sd * std::sqrt(double(k - 1) / (2.0 * pairs));
     std::vector<ForeignImage> images;
     for (int j = 0; j < k; ++j) {
+      const double gain = j < pairs ? 1 + a : (j < 2 * pairs ? 1 - a : 1.0);
       exr::Image file = blank();
-      const double gain = j % 2 ? 1.002 : 0.998;
       for (auto& [name, plane] : file.floats)
         for (size_t i = 0; i < plane.size(); ++i) plane[i] = float(reference_[i] * gain);
-      images.push_back(read(write(file, "alt" + std::to_string(j) + ".exr")));
+      images.push_back(read(write(file, "spread" + std::to_string(j) + ".exr")));
     }
     return images;
   };
-  const double target = 0.004;
-  const CheckResult two = check_images(alternating(2), reference_, kAlpha, target);
+  const CheckResult two = check_images(spread(2), reference_, kAlpha, target);
   ASSERT_TRUE(two.advice.needed);
-  const int k = two.advice.images_at_current_spp + two.advice.images_at_current_spp % 2;
-  const CheckResult enough = check_images(alternating(k), reference_, kAlpha, target);
-  EXPECT_LE(enough.detectable_relative_bias, target * 1.05) << k;  // s of K images differs slightly from s of 2
-  const CheckResult fewer = check_images(alternating(k - 4), reference_, kAlpha, target);
-  EXPECT_GT(fewer.detectable_relative_bias, target) << k;
+  const int k = two.advice.images_at_current_spp;
+  ASSERT_GT(k, 2);
+  // Float storage moves s by ~1e-7 relative: a 1e-4 margin.
+  EXPECT_LE(check_images(spread(k), reference_, kAlpha, target).detectable_relative_bias, target * (1 + 1e-4)) << k;
+  EXPECT_GT(check_images(spread(k - 1), reference_, kAlpha, target).detectable_relative_bias, target) << k;
 }
 
 // ---------------------------------------------------------------------------
