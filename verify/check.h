@@ -1,54 +1,166 @@
 // Reference checking of other renderers' images: `furnace check` compares
 // OpenEXR renders of one of our scenes, made by any renderer, against the
-// scene's exact reference.
+// scene's exact reference, and states how large a bias it could have seen.
 //
-// A single image carries no error bar, so a statistical verdict needs either
-//  - K ≥ 2 independent renders (different seeds): per pixel the mean over the
-//    K images is t-tested with the spread across them (Student t, K − 1 d.o.f.),
-//    and so is the image mean (the K image means are independent), or
-//  - one furnace EXR (with variance.R and N channels): the z-tests of
-//    `furnace verify`.
-// All tests share the family-wise α by the Šidák correction.
+// Error bars. A single image carries none, so the test needs either
+//  - K ≥ 2 independent renders (different seeds): per pixel, the mean over
+//    the K images is t-tested with the spread across them (Student t, K − 1
+//    d.o.f.), and so is the image mean (the K image means are independent); or
+//  - one furnace EXR (variance and N channels): per pixel a t-test with the
+//    stored per-sample variance (N − 1 d.o.f.), and a z-test of the image mean
+//    with standard error √(Σ s²/N)/P. The EXR holds no third moment, so the
+//    pixel tests lack verify's skewness correction (Hall's transformation) and
+//    are somewhat anti-conservative for strongly skewed estimators: one of
+//    seven single 1024–2048-spp path_mis renders of enclosure_box failed one
+//    pixel of 256 at |t| 4.49 against 4.28. K ≥ 2 renders are t-tested on
+//    per-image means, which are much closer to normal.
+//
+// Levels. The family-wise α is split in two halves (kImageMeanAlphaShare):
+// one for the image-mean test(s), one shared by the P pixel tests (per
+// tested channel), each half divided by the Šidák correction over its own
+// tests. The image-mean test decides PASS, so it must not pay for the 1024
+// pixel tests: at K = 8 its critical t falls from 11.6 to 4.0.
+//
+// Power. The detectable bias is λ·σ⁺/√K: λ the noncentrality at which the
+// two-sided t-test (K − 1 d.o.f.) rejects with probability kReportedPower,
+// from Boost's noncentral t (the usual additive t_{1−α/2} + t_{0.9} gives only
+// power 0.69 at one d.o.f.), and σ⁺ the spread's upper confidence bound
+// (kSpreadConfidence). The same for each pixel, with its own spread.
+//
+// Verdict.
+//  - FAIL (exit 1): any test rejects. A test with little power that still
+//    rejects has found a bias, so FAIL wins over INCONCLUSIVE.
+//  - INCONCLUSIVE (exit 3): nothing rejects, but the smallest relative bias
+//    of the image mean detected with power kReportedPower (0.9) exceeds
+//    max_detectable_bias (in any tested channel).
+//  - PASS (exit 0): nothing rejects and the image-mean test has that power.
+// The per-pixel tests' power is reported (median detectable pixel bias) but
+// does not gate PASS: a pixel sees a thousandth of the samples of the image.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/scene.h"
+#include "verify/check_image.h"
 
 namespace furnace::verify {
 
-// One gray value per pixel, row-major from the top-left (EXR's data window
-// order), read as 32-bit floats from channel Y, or the mean of R, G and B.
-struct ForeignImage {
-  std::string path;
-  int width = 0, height = 0;
-  std::vector<double> value;
-  std::vector<double> variance;  // furnace EXRs only: per-sample s² (empty otherwise)
-  std::vector<double> count;     // furnace EXRs only: samples per pixel
+// Default of --max-detectable-bias: PASS needs the image-mean test to catch a
+// 1 % bias of the mean with probability 0.9.
+inline constexpr double kDefaultMaxDetectableBias = 0.01;
+// Share of the family-wise α given to the image-mean test(s); the pixel
+// tests share the rest (see above).
+inline constexpr double kImageMeanAlphaShare = 0.5;
+// Confidence of the upper bound on the spread that the detectable bias uses
+// (Browne 1995, "On the use of a pilot sample for sample size determination",
+// Stat. Med. 14:1933): with few images the observed spread is itself noisy,
+// and two images whose means happen to lie close together would otherwise
+// claim a power they lack. The bound is s·√(ν/χ²_{1−c, ν}): 7.96·s at ν = 1,
+// 1.57·s at ν = 7, 1.16·s at ν = 63; 1 for the z-test of one furnace EXR.
+inline constexpr double kSpreadConfidence = 0.9;
+// Pixels listed as the worst (largest |t|).
+inline constexpr int kWorstPixelsShown = 5;
+// The image count the advice quotes the spp for when K is smaller: with 7
+// d.o.f. the t quantiles are within ~45 % of the normal ones at these levels,
+// while K = 2 (1 d.o.f.) needs a critical t of ~127 even at α/2.
+inline constexpr int kAdvisedImages = 8;
+
+// The exact answer the images are compared with.
+struct CheckReference {
+  std::vector<double> values;   // per pixel centre, row-major
+  bool global = false;          // analytic::global_reference_image, else analytic::reference_image
+  int max_segments = 0;         // path length in segments (2 for direct lighting)
+  std::string description;      // e.g. "global illumination, unlimited depth"
+  std::string note;             // why direct lighting was chosen, when it was
 };
 
-// Throws furnace::Error naming the file and what is wrong (unreadable, no
-// R/G/B or Y channel, resolution differing from the scene's camera).
-ForeignImage read_foreign_image(const std::string& path, const Scene& scene);
+// The reference for `max_depth` segments (the CLI's --max-depth; empty: not
+// given). Not given: the full global-illumination answer (unlimited depth)
+// when analytic::global_reference_image has one for the scene, else direct
+// lighting. Given: the global answer at that depth; where the scene has no
+// closed form, depth 2 is direct lighting (emission + one bounce, the same
+// quantity), and any other depth is bad input (furnace::Error).
+CheckReference check_reference(const Scene& scene, std::optional<int> max_depth);
+
+enum class CheckVerdict { kPass, kFail, kInconclusive };
+std::string verdict_name(CheckVerdict v);  // "PASS", "FAIL", "INCONCLUSIVE"
+int exit_code(CheckVerdict v);             // 0, 1, 3 (2 is bad input, thrown as furnace::Error)
+
+// The tests of one tested channel ("gray", or "R", "G", "B").
+struct ChannelCheck {
+  std::string channel;
+  // Image-mean test.
+  double image_mean = 0, reference_mean = 0;
+  double standard_error = 0;  // of the image mean
+  double statistic = 0;       // t (K ≥ 2) or z (one furnace EXR)
+  double threshold = 0;       // critical |statistic|
+  double dof = 0;             // K − 1; +inf for the z-test
+  double alpha = 0;           // per-test level
+  double detectable_relative_bias = 0;  // at power kReportedPower
+  bool image_mean_pass = false;
+  // Pixel tests.
+  int pixel_failures = 0;
+  // Constant across all samples (no spread at all) yet off the reference,
+  // while other pixels vary: a rare contribution never sampled (verify's
+  // harness rule). Not tested; the image-mean test still sees them.
+  int pixels_untested = 0;
+  double pixel_alpha = 0;
+  double pixel_threshold = 0;  // critical |t| of the median pixel (they differ with N for one furnace EXR)
+  double pixel_dof = 0;        // of the median pixel
+  double median_pixel_detectable_relative_bias = 0;
+  double relative_rmse = 0;    // of the (averaged) image against the reference, relative to the reference mean
+};
+
+struct WorstPixel {
+  int x = 0, y = 0;
+  std::string channel;
+  double value = 0, reference = 0;
+  double t = 0;  // ±inf: zero spread and not on the reference
+  bool untested = false;  // see ChannelCheck::pixels_untested
+};
+
+// How many images or samples would give the image-mean test its power,
+// assuming the true spread of an image's mean is the observed one, that it
+// falls as 1/√spp (independent samples), and that the check of K images then
+// reports λ(K − 1)·σ⁺(K − 1)/√K (the power rule above, with its own bound).
+struct CheckAdvice {
+  bool needed = false;
+  int images_at_current_spp = 0;        // smallest K reaching the threshold at the current spp (0: beyond 10⁶)
+  double spp_factor_at_current_images = 0;  // multiply each image's spp by this, keeping K images
+  int advised_images = 0;               // max(K, kAdvisedImages)
+  double spp_factor_at_advised_images = 0;  // multiply each image's spp by this with advised_images images
+  double current_spp = 0;               // from the images' provenance or N channel; 0 if unknown
+};
 
 struct CheckResult {
   int images = 0;
   int pixels = 0;
-  std::string method;         // "across-images t" or "furnace variance z"
-  double image_mean = 0, reference_mean = 0;
-  double statistic = 0, threshold = 0;
-  double detectable_relative_bias = 0;
-  int pixel_failures = 0;
-  double median_pixel_detectable_relative_bias = 0;
-  double relative_rmse = 0;   // of the (averaged) image against the reference
-  bool pass = false;
+  std::string method;  // "across-images t" or "furnace variance"
+  double alpha = 0;
+  double max_detectable_bias = 0;
+  std::vector<ChannelCheck> channels;
+  std::vector<WorstPixel> worst_pixels;
+  // Per tested channel, per pixel: the test statistic (for --zmap).
+  std::vector<std::vector<double>> pixel_t;
+  double detectable_relative_bias = 0;  // the largest over the tested channels
+  bool image_mean_has_power = false;    // detectable_relative_bias ≤ max_detectable_bias
+  bool pixels_have_power = false;       // every channel's median detectable pixel bias ≤ max_detectable_bias
+  CheckAdvice advice;
+  CheckVerdict verdict = CheckVerdict::kFail;
 };
 
-// `max_segments`: for a global-illumination reference (0: direct lighting).
-CheckResult check_images(const Scene& scene, const std::vector<ForeignImage>& images, double alpha,
-                         int max_segments);
+// The noncentrality λ = bias/SE at which a two-sided level-α t-test with
+// `dof` d.o.f. (+inf: the z-test) rejects with probability `power`.
+double detectable_noncentrality(double dof, double alpha, double power);
+// √(ν/χ²_{1−confidence, ν}): the one-sided upper confidence bound of σ over s
+// from ν d.o.f.; 1 for ν = +inf.
+double spread_upper_bound_factor(double dof, double confidence);
 
-std::string format_check(const Scene& scene, const CheckResult& r, double alpha);
+// Throws furnace::Error for input the tests cannot use (one image without
+// variance channels, one furnace EXR with N < 2 somewhere).
+CheckResult check_images(const std::vector<ForeignImage>& images, const std::vector<double>& reference, double alpha,
+                         double max_detectable_bias);
 
 }  // namespace furnace::verify

@@ -5,18 +5,21 @@
 #include <cstdio>
 #include <limits>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "analytic/global.h"
 #include "core/error.h"
 #include "core/scene.h"
 #include "renderer/exr_io.h"
 #include "renderer/render.h"
 #include "verify/analytic_query.h"
 #include "verify/check.h"
+#include "verify/check_command.h"
 #include "verify/harness.h"
 #include "verify/report.h"
 #include "verify/statistics.h"
@@ -39,7 +42,7 @@ int run_render(const std::string& scene_path, const std::string& strategy, const
   options.max_depth = max_depth;
   options.roulette_depth = roulette_depth;
   const Image image = render(scene, options);
-  write_exr(output, image);
+  write_exr(output, image, render_provenance(scene_path, scene, options));
   const double samples = double(image.width) * image.height * spp;
   fmt::print("rendered {} ({}x{}, {} spp, strategy {}) in {:.3f} s, {:.3g} samples/s, {} non-finite samples -> {}\n",
              scene.name, image.width, image.height, spp, strategy, image.seconds, samples / image.seconds,
@@ -166,6 +169,17 @@ int run_sweep(const std::vector<std::string>& strategies, int seeds, int spp, do
   return calibrated ? 0 : 1;
 }
 
+// --max-depth, the same for render, verify and check: the longest path in
+// segments (the camera segment counts as 1; 2 is direct lighting), a number
+// >= 1 or the word "unlimited" (kUnlimitedDepth).
+CLI::Option* add_max_depth_option(CLI::App* command, int& segments, const std::string& description) {
+  const std::map<std::string, int> words{{"unlimited", kUnlimitedDepth}};
+  return command->add_option("--max-depth", segments, description)
+      ->transform(CLI::Transformer(words, CLI::ignore_case).description(""))
+      ->check(CLI::Range(1, kUnlimitedDepth).description(""))
+      ->type_name("SEGMENTS|unlimited");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -185,9 +199,9 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--seed", seed, "Random seed")->capture_default_str();
   render_cmd->add_option("--threads", threads, "Worker threads (0: all)")->capture_default_str()->check(CLI::Range(0, 1024));
   render_cmd->add_option("--output,-o", output, "Output EXR path")->capture_default_str();
-  int max_depth = std::numeric_limits<int>::max(), roulette_depth = 3;
-  render_cmd->add_option("--max-depth", max_depth, "Path tracers: longest path in segments (default unlimited)")
-      ->check(CLI::Range(1, std::numeric_limits<int>::max()));
+  int max_depth = kUnlimitedDepth, roulette_depth = 3;
+  add_max_depth_option(render_cmd, max_depth, "Path tracers: longest path in segments, camera segment included, or "
+                       "'unlimited' (default unlimited)");
   render_cmd->add_option("--roulette-depth", roulette_depth, "Path tracers: depth at which Russian roulette starts")
       ->capture_default_str()->check(CLI::Range(1, std::numeric_limits<int>::max()));
 
@@ -196,7 +210,7 @@ int main(int argc, char** argv) {
   int v_spp = 4096, v_threads = 0;
   uint64_t v_seed = 20261125;
   double v_alpha = verify::kDefaultFamilyAlpha;
-  int v_max_depth = std::numeric_limits<int>::max();
+  int v_max_depth = kUnlimitedDepth;
   auto* verify_cmd = app.add_subcommand("verify", "Render the analytic scenes and test them against their exact references");
   verify_cmd->add_option("--scene", v_scenes, "Scene file(s); default: the built-in suite");
   verify_cmd->add_option("--strategy", v_strategies, "Strategy name(s); default: all");
@@ -210,8 +224,8 @@ int main(int argc, char** argv) {
   verify_cmd->add_option("--threads", v_threads, "Worker threads (0: all)")->capture_default_str()->check(CLI::Range(0, 1024));
   verify_cmd->add_option("--alpha", v_alpha, "Family-wise false-alarm probability of the whole run")
       ->capture_default_str()->check(CLI::Range(1e-12, 0.5));
-  verify_cmd->add_option("--max-depth", v_max_depth, "Path tracers with --scene: longest path in segments (default unlimited)")
-      ->check(CLI::Range(1, std::numeric_limits<int>::max()));
+  add_max_depth_option(verify_cmd, v_max_depth, "Path tracers with --scene: longest path in segments, camera segment "
+                       "included, or 'unlimited' (default unlimited)");
 
   std::vector<std::string> r_strategies;
   int r_min_spp = 4, r_max_spp = 1024, r_threads = 0;
@@ -236,16 +250,44 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1.0));
   analytic_cmd->add_flag("--json", a_json, "Print JSON");
 
-  std::string c_scene;
-  std::vector<std::string> c_images;
-  double c_alpha = verify::kDefaultFamilyAlpha;
-  int c_max_depth = 0;
+  verify::CheckOptions c_options;
+  int c_max_depth = kUnlimitedDepth;
   auto* check_cmd = app.add_subcommand("check", "Test another renderer's OpenEXR images of a scene against its exact reference");
-  check_cmd->add_option("--scene", c_scene, "Scene file the images are renders of")->required();
-  check_cmd->add_option("--image", c_images, "OpenEXR image(s): K >= 2 independent renders, or one furnace EXR")->required();
-  check_cmd->add_option("--alpha", c_alpha, "Family-wise false-alarm probability")->capture_default_str()->check(CLI::Range(1e-12, 0.5));
-  check_cmd->add_option("--max-depth", c_max_depth, "Compare with the global-illumination answer at this path depth "
-                        "(segments; 0: direct lighting)")->capture_default_str()->check(CLI::Range(0, std::numeric_limits<int>::max()));
+  check_cmd->add_option("--scene", c_options.scene_path, "Scene file the images are renders of")->required();
+  check_cmd->add_option("--image", c_options.image_paths,
+                        "OpenEXR image(s): K >= 2 independent renders (different seeds), or one furnace EXR (with "
+                        "variance.R/G/B and N channels)")->required();
+  c_options.alpha = verify::kDefaultFamilyAlpha;
+  check_cmd->add_option("--alpha", c_options.alpha, "Family-wise false-alarm probability")
+      ->capture_default_str()->check(CLI::Range(1e-12, 0.5));
+  check_cmd->add_option("--max-detectable-bias", c_options.max_detectable_bias,
+                        "PASS needs the image-mean test to detect a relative bias this large with power 0.9 "
+                        "(else INCONCLUSIVE)")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  auto* c_depth = add_max_depth_option(
+      check_cmd, c_max_depth,
+      "The reference's path length, as for render (default: unlimited where the scene has a closed-form global "
+      "answer, else direct lighting; 2 is direct lighting)");
+  const std::map<std::string, verify::ChannelMode> channel_modes{{"gray", verify::ChannelMode::kGray},
+                                                                 {"rgb", verify::ChannelMode::kRgb}};
+  check_cmd->add_option("--channels", c_options.channels,
+                        "gray: test the mean of R, G, B (or Y); rgb: test R, G and B separately")
+      ->transform(CLI::CheckedTransformer(channel_modes, CLI::ignore_case).description(""))
+      ->type_name("gray|rgb")->default_str("gray");
+  check_cmd->add_option("--zmap", c_options.zmap_path, "Write the per-pixel t statistic to this OpenEXR file")
+      ->type_name("FILE");
+  check_cmd->add_option("--json", c_options.json_path, "Write every number of the report as JSON to FILE ('-': stdout, "
+                        "the text report then goes to stderr)")
+      ->type_name("FILE");
+  check_cmd->footer(
+      "Reference: a scene with a closed-form global-illumination answer (closed enclosures, white furnaces, scenes "
+      "whose light bounces at most once, mirrors in front of these) is checked against the full answer at unlimited "
+      "depth, what a path tracer without a depth limit computes; any other scene against direct lighting "
+      "(emission + one bounce, --max-depth 2), the only exact answer it has.\n"
+      "Verdict: PASS (exit 0) when no test rejects and the image-mean test detects a bias of --max-detectable-bias "
+      "with power 0.9; FAIL (exit 1) when any test rejects, whatever the power; bad input (exit 2, one sentence on "
+      "stderr); INCONCLUSIVE (exit 3) when nothing rejects but the test lacks that power (the report says how many "
+      "images or samples would give it).");
 
   std::vector<std::string> s_strategies;
   int s_seeds = 50, s_spp = 1024, s_threads = 0;
@@ -276,12 +318,8 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*check_cmd) {
-      const Scene scene = load_scene(c_scene);
-      std::vector<verify::ForeignImage> images;
-      for (const std::string& path : c_images) images.push_back(verify::read_foreign_image(path, scene));
-      const verify::CheckResult r = verify::check_images(scene, images, c_alpha, c_max_depth);
-      std::fputs(verify::format_check(scene, r, c_alpha).c_str(), stdout);
-      return r.pass ? 0 : 1;
+      if (c_depth->count() > 0) c_options.max_depth = c_max_depth;
+      return verify::run_check(c_options);
     }
     if (*sweep_cmd) return run_sweep(s_strategies, s_seeds, s_spp, s_alpha, s_threads);
     if (*report_cmd) {

@@ -2,12 +2,12 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 
 #include <fmt/format.h>
 
 #include "analytic/global.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 namespace furnace::verify {
@@ -25,17 +25,6 @@ double least_squares_slope(const std::vector<double>& x, const std::vector<doubl
   }
   const double denominator = n * sxx - sx * sx;
   return denominator > 0 ? (n * sxy - sx * sy) / denominator : 0.0;
-}
-
-void write_atomically(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw Error(fmt::format("cannot write report file '{}'.", tmp.string()));
-    out << text;
-    if (!out) throw Error(fmt::format("cannot write report file '{}'.", tmp.string()));
-  }
-  std::filesystem::rename(tmp, path);
 }
 
 }  // namespace
@@ -126,8 +115,8 @@ void write_convergence_report(const std::vector<ConvergenceSeries>& series, cons
     }
     md += "\n";
   }
-  write_atomically(std::filesystem::path(dir) / "convergence.csv", csv);
-  write_atomically(std::filesystem::path(dir) / "convergence.md", md);
+  write_text_file_atomically(std::filesystem::path(dir) / "convergence.csv", csv, "report file");
+  write_text_file_atomically(std::filesystem::path(dir) / "convergence.md", md, "report file");
 }
 
 }  // namespace furnace::verify

@@ -139,6 +139,49 @@ TEST_F(ExrIo, MissingChannelIsNamed) {
   }
 }
 
+TEST_F(ExrIo, LayoutAndProvenanceAreInTheFile) {
+  // The channels and types of the layout in exr_io.h, and the provenance attributes.
+  ImageProvenance provenance;
+  provenance.scene = "disk_occluder";
+  provenance.scene_hash = "fnv1a64:0123456789abcdef";
+  provenance.strategy = "path_mis";
+  provenance.max_depth = depth_name(kUnlimitedDepth);
+  const fs::path path = dir_ / "layout.exr";
+  write_exr(path, make_image(2, 2), provenance);
+  Imf::InputFile file(path.string().c_str());
+  std::vector<std::string> names;
+  for (auto c = file.header().channels().begin(); c != file.header().channels().end(); ++c) {
+    names.push_back(c.name());
+    EXPECT_EQ(c.channel().type, names.back() == "N" ? Imf::UINT : Imf::FLOAT) << c.name();
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"B", "G", "N", "R", "variance.B", "variance.G", "variance.R"}));
+  const ExrImage back = read_exr(path);
+  EXPECT_EQ(back.attributes.at("furnace.scene"), "disk_occluder");
+  EXPECT_EQ(back.attributes.at("furnace.scene_hash"), "fnv1a64:0123456789abcdef");
+  EXPECT_EQ(back.attributes.at("furnace.max_depth"), "unlimited");
+  EXPECT_EQ(back.attributes.at("furnace.rays"), "1234");
+}
+
+TEST_F(ExrIo, RenderProvenanceHashesTheSceneFile) {
+  const std::string scene_path = std::string(FURNACE_SCENE_DIR) + "/disk_occluder.json";
+  const Scene scene = load_scene(scene_path);
+  RenderOptions options;
+  options.strategy = Strategy::kPathMis;
+  options.spp = 17;
+  options.seed = 5;
+  options.max_depth = 4;
+  const ImageProvenance p = render_provenance(scene_path, scene, options);
+  EXPECT_EQ(p.scene, "disk_occluder");
+  EXPECT_EQ(p.scene_hash, file_content_hash(scene_path));
+  EXPECT_EQ(p.strategy, "path_mis");
+  EXPECT_EQ(p.spp, "17");
+  EXPECT_EQ(p.seed, "5");
+  EXPECT_EQ(p.max_depth, "4");
+  EXPECT_EQ(p.light_selection, "uniform");
+  EXPECT_EQ(p.defect, "none");
+  EXPECT_EQ(p.version, furnace_version());
+}
+
 TEST_F(ExrIo, EmptyImageIsRejected) {
   EXPECT_THROW(write_exr(dir_ / "empty.exr", Image{}), Error);
   EXPECT_EQ(files_in_dir(), 0u);

@@ -1,0 +1,379 @@
+// `furnace check` (verify/check*.h): bad images are bad input naming the
+// file, pixel and value; the verdict is PASS only with power, INCONCLUSIVE
+// without it, FAIL on a bias whatever the power; --channels rgb catches a
+// colour error that keeps the gray mean. Images are synthesised as the exact
+// reference times (1 + Gaussian noise) with fixed seeds, so the spread, and
+// therefore the power, is known.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/exr.h"
+#include "core/provenance.h"
+#include "core/scene.h"
+#include "verify/check.h"
+#include "verify/check_command.h"
+#include "verify/check_image.h"
+
+namespace furnace::verify {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Named seeds of the synthetic noise.
+constexpr uint64_t kNoiseSeed = 20261125;
+// Relative per-pixel noise of a synthetic render: about a 256-spp light_area
+// render of disk_occluder (a 1 % pixel error gives the image mean 0.03 %).
+constexpr double kPixelNoise = 0.01;
+constexpr double kAlpha = 0.01;
+
+const std::string kDisk = std::string(FURNACE_SCENE_DIR) + "/disk_occluder.json";
+
+class Check : public testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / (std::string("furnace_check_") + info->name() + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    scene_ = load_scene(kDisk);
+    reference_ = check_reference(scene_, std::nullopt).values;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // K synthetic renders: reference·gain_c·(1 + kPixelNoise·noise), per channel gain.
+  std::vector<ForeignImage> synthetic(int k, double r_gain = 1, double g_gain = 1, double b_gain = 1,
+                                      ChannelMode mode = ChannelMode::kGray, uint64_t seed = kNoiseSeed) {
+    std::vector<ForeignImage> images;
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> noise;
+    for (int j = 0; j < k; ++j) {
+      exr::Image file = blank();
+      for (size_t i = 0; i < reference_.size(); ++i) {
+        const double u = 1 + kPixelNoise * noise(rng);
+        file.floats["R"][i] = float(reference_[i] * r_gain * u);
+        file.floats["G"][i] = float(reference_[i] * g_gain * u);
+        file.floats["B"][i] = float(reference_[i] * b_gain * u);
+      }
+      images.push_back(read(write(file, "s" + std::to_string(j) + ".exr"), mode));
+    }
+    return images;
+  }
+
+  // An RGB image of the scene's size holding the reference.
+  exr::Image blank() const {
+    exr::Image file;
+    file.width = scene_.camera.width_px;
+    file.height = scene_.camera.height_px;
+    for (const char* c : {"R", "G", "B"}) file.floats[c].assign(reference_.begin(), reference_.end());
+    return file;
+  }
+  // A furnace-style image: R, G, B = reference, variance.* = s2, N = count.
+  exr::Image furnace_like(double s2, uint32_t count) const {
+    exr::Image file = blank();
+    for (const char* c : {"variance.R", "variance.G", "variance.B"}) file.floats[c].assign(reference_.size(), float(s2));
+    file.uints["N"].assign(reference_.size(), count);
+    return file;
+  }
+  std::string write(const exr::Image& file, const std::string& name) const {
+    const std::string path = (dir_ / name).string();
+    exr::write(path, file);
+    return path;
+  }
+  ForeignImage read(const std::string& path, ChannelMode mode = ChannelMode::kGray) const {
+    return read_foreign_image(path, scene_, mode);
+  }
+
+  // Reading (or checking) must fail with one sentence holding every fragment.
+  template <class F>
+  static void expect_bad_input(F&& f, const std::vector<std::string>& fragments) {
+    try {
+      f();
+      FAIL() << "accepted";
+    } catch (const Error& e) {
+      const std::string msg = e.what();
+      for (const std::string& s : fragments) EXPECT_NE(msg.find(s), std::string::npos) << s << " not in: " << msg;
+      EXPECT_EQ(msg.back(), '.') << msg;
+      EXPECT_EQ(msg.find(". "), std::string::npos) << "one sentence: " << msg;
+    }
+  }
+
+  fs::path dir_;
+  Scene scene_;
+  std::vector<double> reference_;
+};
+
+// ---------------------------------------------------------------------------
+// Bad input: every class is rejected before any statistics.
+
+TEST_F(Check, NegativeRadianceIsBadInput) {
+  exr::Image file = blank();
+  file.floats["G"][3 * 32 + 5] = -1;
+  const std::string path = write(file, "negative.exr");
+  expect_bad_input([&] { read(path); }, {path, "(5, 3)", "-1", "'G'", "non-negative"});
+}
+
+TEST_F(Check, NanAndInfiniteRadianceAreBadInput) {
+  exr::Image nan = blank(), inf = blank();
+  nan.floats["R"][0] = std::numeric_limits<float>::quiet_NaN();
+  inf.floats["B"][33] = std::numeric_limits<float>::infinity();
+  const std::string a = write(nan, "nan.exr"), b = write(inf, "inf.exr");
+  expect_bad_input([&] { read(a); }, {a, "(0, 0)", "nan", "'R'"});
+  expect_bad_input([&] { read(b); }, {b, "(1, 1)", "inf", "'B'"});
+}
+
+TEST_F(Check, YOnlyImageIsReadAndRgbModeRejectsIt) {
+  exr::Image file;
+  file.width = scene_.camera.width_px;
+  file.height = scene_.camera.height_px;
+  file.floats["Y"].assign(reference_.begin(), reference_.end());
+  file.floats["Y"][2] = -0.5f;
+  const std::string path = write(file, "y.exr");
+  expect_bad_input([&] { read(path); }, {path, "(2, 0)", "-0.5", "'Y'"});
+  expect_bad_input([&] { read(path, ChannelMode::kRgb); }, {path, "--channels rgb", "Y"});
+}
+
+TEST_F(Check, BadVarianceChannelsAreBadInput) {
+  const float bad[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(), -0.25f};
+  const char* text[] = {"nan", "inf", "-0.25"};
+  for (int b = 0; b < 3; ++b) {
+    exr::Image file = furnace_like(0.01, 64);
+    file.floats["variance.B"][32 * 31 + 31] = bad[b];
+    const std::string path = write(file, "variance" + std::to_string(b) + ".exr");
+    expect_bad_input([&] { read(path); }, {path, "(31, 31)", text[b], "'variance.B'"});
+  }
+}
+
+TEST_F(Check, ZeroSampleCountIsBadInput) {
+  exr::Image file = furnace_like(0.01, 64);
+  file.uints["N"][7] = 0;
+  const std::string path = write(file, "n0.exr");
+  expect_bad_input([&] { read(path); }, {path, "N = 0", "(7, 0)"});
+}
+
+TEST_F(Check, OneFurnaceImageNeedsTwoSamplesPerPixel) {
+  exr::Image file = furnace_like(0.01, 64);
+  file.uints["N"][40] = 1;
+  const std::string path = write(file, "n1.exr");
+  const std::vector<ForeignImage> images = {read(path)};
+  expect_bad_input([&] { check_images(images, reference_, kAlpha, kDefaultMaxDetectableBias); },
+                   {path, "N = 1", "(8, 1)"});
+}
+
+TEST_F(Check, OneImageWithoutVarianceIsBadInput) {
+  const std::vector<ForeignImage> images = {read(write(blank(), "plain.exr"))};
+  expect_bad_input([&] { check_images(images, reference_, kAlpha, kDefaultMaxDetectableBias); },
+                   {"plain.exr", "two independent renders"});
+}
+
+TEST_F(Check, IdenticalImagesAreBadInputNamingBoth) {
+  std::vector<ForeignImage> images = synthetic(3);
+  images[2] = images[0];
+  images[2].path = "copy.exr";
+  expect_bad_input([&] { reject_identical_images(images, reference_); }, {images[0].path, "copy.exr", "identical"});
+}
+
+TEST_F(Check, IdenticalExactImagesOfAZeroVarianceRenderAreAccepted) {
+  const ForeignImage exact = read(write(blank(), "exact.exr"));
+  const std::vector<ForeignImage> images = {exact, exact};
+  EXPECT_NO_THROW(reject_identical_images(images, reference_));
+  const CheckResult r = check_images(images, reference_, kAlpha, kDefaultMaxDetectableBias);
+  EXPECT_EQ(r.verdict, CheckVerdict::kPass);
+}
+
+TEST_F(Check, WrongResolutionIsBadInput) {
+  exr::Image file;
+  file.width = 24;
+  file.height = 24;
+  file.floats["Y"].assign(24 * 24, 1.0f);
+  const std::string path = write(file, "small.exr");
+  expect_bad_input([&] { read(path); }, {path, "24x24", "camera.resolution", "[32, 32]"});
+}
+
+// ---------------------------------------------------------------------------
+// Verdicts.
+
+TEST_F(Check, TwoImagesAreInconclusiveAndSayWhatWouldSuffice) {
+  const CheckResult r = check_images(synthetic(2), reference_, kAlpha, kDefaultMaxDetectableBias);
+  EXPECT_EQ(r.verdict, CheckVerdict::kInconclusive) << r.detectable_relative_bias;
+  EXPECT_EQ(exit_code(r.verdict), 3);
+  EXPECT_GT(r.detectable_relative_bias, kDefaultMaxDetectableBias);
+  EXPECT_FALSE(r.image_mean_has_power);
+  ASSERT_TRUE(r.advice.needed);
+  EXPECT_GT(r.advice.images_at_current_spp, 2);
+  EXPECT_EQ(r.advice.advised_images, kAdvisedImages);
+  EXPECT_GT(r.advice.spp_factor_at_current_images, r.advice.spp_factor_at_advised_images);
+}
+
+TEST_F(Check, EightImagesPassWithPower) {
+  const CheckResult r = check_images(synthetic(8), reference_, kAlpha, kDefaultMaxDetectableBias);
+  EXPECT_EQ(r.verdict, CheckVerdict::kPass) << r.detectable_relative_bias;
+  EXPECT_TRUE(r.image_mean_has_power);
+  EXPECT_LE(r.detectable_relative_bias, kDefaultMaxDetectableBias);
+  EXPECT_FALSE(r.advice.needed);
+  EXPECT_EQ(r.channels[0].pixel_failures, 0);
+  EXPECT_EQ(int(r.worst_pixels.size()), kWorstPixelsShown);
+  for (size_t w = 1; w < r.worst_pixels.size(); ++w)
+    EXPECT_GE(std::fabs(r.worst_pixels[w - 1].t), std::fabs(r.worst_pixels[w].t));
+}
+
+TEST_F(Check, AStricterThresholdMakesTheSameImagesInconclusive) {
+  const CheckResult r = check_images(synthetic(8), reference_, kAlpha, 1e-5);
+  EXPECT_EQ(r.verdict, CheckVerdict::kInconclusive);
+}
+
+TEST_F(Check, BiasedImagesFail) {
+  const CheckResult r = check_images(synthetic(8, 1.02, 1.02, 1.02), reference_, kAlpha, kDefaultMaxDetectableBias);
+  EXPECT_EQ(r.verdict, CheckVerdict::kFail);
+  EXPECT_EQ(exit_code(r.verdict), 1);
+  EXPECT_FALSE(r.channels[0].image_mean_pass);
+}
+
+TEST_F(Check, FailWinsOverInconclusive) {
+  // Two images: no power for 1 %, yet a 10 % bias of the mean is far beyond the critical t.
+  const CheckResult r = check_images(synthetic(2, 1.1, 1.1, 1.1), reference_, kAlpha, kDefaultMaxDetectableBias);
+  EXPECT_FALSE(r.image_mean_has_power);
+  EXPECT_EQ(r.verdict, CheckVerdict::kFail);
+}
+
+TEST_F(Check, ColourErrorKeepingTheGrayMeanFailsOnlyPerChannel) {
+  // R +3 %, B −3 %: the gray mean is unchanged.
+  const CheckResult gray = check_images(synthetic(8, 1.03, 1, 0.97), reference_, kAlpha, kDefaultMaxDetectableBias);
+  EXPECT_EQ(gray.verdict, CheckVerdict::kPass);
+  const CheckResult rgb = check_images(synthetic(8, 1.03, 1, 0.97, ChannelMode::kRgb), reference_, kAlpha,
+                                       kDefaultMaxDetectableBias);
+  ASSERT_EQ(rgb.channels.size(), 3u);
+  EXPECT_EQ(rgb.verdict, CheckVerdict::kFail);
+  EXPECT_FALSE(rgb.channels[0].image_mean_pass);  // R
+  EXPECT_TRUE(rgb.channels[1].image_mean_pass);   // G
+  EXPECT_FALSE(rgb.channels[2].image_mean_pass);  // B
+  // Each channel's tests at its own Šidák share.
+  EXPECT_LT(rgb.channels[0].alpha, gray.channels[0].alpha);
+  EXPECT_LT(rgb.channels[0].pixel_alpha, gray.channels[0].pixel_alpha);
+}
+
+TEST_F(Check, OneFurnaceImageUsesItsVariance) {
+  // s² = (0.05·mean)² per sample at N = 1024: image-mean SE ≈ 0.05/√1024/32 ≈ 5e-5 relative.
+  exr::Image file = furnace_like(0, 1024);
+  for (const char* c : {"variance.R", "variance.G", "variance.B"})
+    for (size_t i = 0; i < reference_.size(); ++i) file.floats[c][i] = float(std::pow(0.05 * reference_[i], 2));
+  const std::vector<ForeignImage> images = {read(write(file, "furnace.exr"))};
+  const CheckResult r = check_images(images, reference_, kAlpha, kDefaultMaxDetectableBias);
+  EXPECT_EQ(r.method, "furnace variance");
+  EXPECT_EQ(r.verdict, CheckVerdict::kPass);
+  EXPECT_TRUE(std::isinf(r.channels[0].dof));
+}
+
+TEST_F(Check, AdviceReachesTheThresholdWithTheImagesItNames) {
+  // K images whose means have sample standard deviation exactly `sd`
+  // (relative): half at 1 + a, half at 1 − a (one at 1 for odd K), a chosen
+  // so that s = sd. The advice from 2 such images must then name the K at
+  // which the check reaches the threshold, and K − 1 must fall short.
+  const double sd = 0.002, target = 0.004;
+  auto spread = [&](int k) {
+    const int pairs = k / 2;
+    const double a = sd * std::sqrt(double(k - 1) / (2.0 * pairs));
+    std::vector<ForeignImage> images;
+    for (int j = 0; j < k; ++j) {
+      const double gain = j < pairs ? 1 + a : (j < 2 * pairs ? 1 - a : 1.0);
+      exr::Image file = blank();
+      for (auto& [name, plane] : file.floats)
+        for (size_t i = 0; i < plane.size(); ++i) plane[i] = float(reference_[i] * gain);
+      images.push_back(read(write(file, "spread" + std::to_string(j) + ".exr")));
+    }
+    return images;
+  };
+  const CheckResult two = check_images(spread(2), reference_, kAlpha, target);
+  ASSERT_TRUE(two.advice.needed);
+  const int k = two.advice.images_at_current_spp;
+  ASSERT_GT(k, 2);
+  // Float storage moves s by ~1e-7 relative: a 1e-4 margin.
+  EXPECT_LE(check_images(spread(k), reference_, kAlpha, target).detectable_relative_bias, target * (1 + 1e-4)) << k;
+  EXPECT_GT(check_images(spread(k - 1), reference_, kAlpha, target).detectable_relative_bias, target) << k;
+}
+
+// ---------------------------------------------------------------------------
+// The reference comes from the scene.
+
+TEST(CheckReferenceChoice, EnclosureDefaultsToUnlimitedGlobalIllumination) {
+  const Scene box = load_scene(std::string(FURNACE_SCENE_DIR) + "/enclosure_box.json");
+  const CheckReference r = check_reference(box, std::nullopt);
+  EXPECT_TRUE(r.global);
+  EXPECT_EQ(r.max_segments, kUnlimitedDepth);
+  const CheckReference direct = check_reference(box, 2);
+  EXPECT_LT(direct.values[0], r.values[0]);  // Le(1 + ρ) < Le/(1 − ρ)
+}
+
+TEST(CheckReferenceChoice, SceneWithoutGlobalAnswerFallsBackToDirectLighting) {
+  // A reflecting sphere seen by a reflecting floor: light bounces between them.
+  const Scene s = parse_scene(R"({
+    "name": "two_reflectors",
+    "camera": {"type": "orthographic", "center": [0, 0, 3], "forward": [0, 0, -1], "up": [0, 1, 0],
+               "size": [4, 4], "resolution": [4, 4]},
+    "objects": [
+      {"name": "floor", "shape": {"type": "rectangle", "corner": [-2, -2, 0], "edge_u": [4, 0, 0], "edge_v": [0, 4, 0]},
+       "material": {"type": "lambertian", "albedo": 0.5}},
+      {"name": "ball", "shape": {"type": "sphere", "center": [0, 0, 1], "radius": 0.5},
+       "material": {"type": "lambertian", "albedo": 0.5}}
+    ],
+    "environment": {"radiance": 1}
+  })", "two_reflectors.json");
+  EXPECT_THROW(check_reference(s, 5), Error);
+  try {
+    check_reference(s, std::nullopt);
+  } catch (const Error&) {
+    GTEST_SKIP() << "the direct reference does not cover this scene either";
+  }
+  const CheckReference r = check_reference(s, std::nullopt);
+  EXPECT_FALSE(r.global);
+  EXPECT_EQ(r.max_segments, 2);
+  EXPECT_FALSE(r.note.empty());
+}
+
+// ---------------------------------------------------------------------------
+// Provenance and the report.
+
+TEST_F(Check, ImageOfAnotherSceneIsWarnedAbout) {
+  exr::Image file = blank();
+  file.attributes = {{"furnace.scene", "polygon_occluder"}, {"furnace.scene_hash", "fnv1a64:0000000000000000"}};
+  exr::Image same = blank();
+  same.attributes = {{"furnace.scene", scene_.name}, {"furnace.scene_hash", file_content_hash(kDisk)}};
+  const std::vector<ForeignImage> images = {read(write(file, "other.exr")), read(write(same, "same.exr"))};
+  const CheckReference reference = check_reference(scene_, std::nullopt);
+  const auto warnings = provenance_warnings(scene_, file_content_hash(kDisk), images, reference);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("other.exr"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("polygon_occluder"), std::string::npos) << warnings[0];
+}
+
+TEST_F(Check, ReportNamesVerdictPowerAndWorstPixels) {
+  const CheckReference reference = check_reference(scene_, std::nullopt);
+  const CheckResult r = check_images(synthetic(2), reference_, kAlpha, kDefaultMaxDetectableBias);
+  const std::string text = format_check(scene_, reference, r);
+  EXPECT_NE(text.find("verdict: INCONCLUSIVE"), std::string::npos) << text;
+  EXPECT_NE(text.find("LOW POWER"), std::string::npos) << text;
+  EXPECT_NE(text.find("worst pixels"), std::string::npos) << text;
+  EXPECT_NE(text.find("images at"), std::string::npos) << text;
+}
+
+TEST_F(Check, ZmapHoldsThePerPixelT) {
+  const CheckResult r = check_images(synthetic(4, 1, 1, 1, ChannelMode::kRgb), reference_, kAlpha,
+                                     kDefaultMaxDetectableBias);
+  const std::string path = (dir_ / "z.exr").string();
+  write_zmap(path, scene_, r);
+  const exr::Image z = exr::read(path);
+  ASSERT_TRUE(z.has_channel("R") && z.has_channel("G") && z.has_channel("B"));
+  const std::vector<double> g = z.values("G");
+  for (size_t i = 0; i < g.size(); ++i) EXPECT_EQ(g[i], double(float(r.pixel_t[1][i])));
+}
+
+}  // namespace
+}  // namespace furnace::verify

@@ -1,0 +1,127 @@
+#include "verify/check_image.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/exr.h"
+#include "verify/statistics.h"
+
+namespace furnace::verify {
+
+namespace {
+
+constexpr const char* kRgb[] = {"R", "G", "B"};
+constexpr const char* kVarianceRgb[] = {"variance.R", "variance.G", "variance.B"};
+constexpr const char* kCountChannel = "N";
+
+std::string pixel_name(size_t i, int width) { return fmt::format("({}, {})", i % size_t(width), i / size_t(width)); }
+
+// Radiance must be finite and non-negative at every pixel.
+void require_radiance(const std::string& path, const std::string& channel, const std::vector<double>& v, int width) {
+  for (size_t i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v[i]) || v[i] < 0)
+      throw Error(fmt::format("image '{}' has radiance {} in channel '{}' at pixel {}; radiance must be finite and "
+                              "non-negative.",
+                              path, float(v[i]), channel, pixel_name(i, width)));
+}
+
+void require_variance(const std::string& path, const std::string& channel, const std::vector<double>& v, int width) {
+  for (size_t i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v[i]) || v[i] < 0)
+      throw Error(fmt::format("image '{}' has variance {} in channel '{}' at pixel {}; a variance must be finite and "
+                              "non-negative.",
+                              path, float(v[i]), channel, pixel_name(i, width)));
+}
+
+void require_counts(const std::string& path, const std::vector<double>& n, int width) {
+  for (size_t i = 0; i < n.size(); ++i)
+    if (!(n[i] >= 1) || n[i] != std::floor(n[i]) || !std::isfinite(n[i]))
+      throw Error(fmt::format("image '{}' has sample count N = {} at pixel {}; every pixel needs a positive whole "
+                              "number of samples.",
+                              path, n[i], pixel_name(i, width)));
+}
+
+}  // namespace
+
+std::string channel_mode_name(ChannelMode mode) { return mode == ChannelMode::kRgb ? "rgb" : "gray"; }
+
+ForeignImage read_foreign_image(const std::string& path, const Scene& scene, ChannelMode mode) {
+  const exr::Image file = exr::read(path, "image");
+  ForeignImage img;
+  img.path = path;
+  img.width = file.width;
+  img.height = file.height;
+  if (img.width != scene.camera.width_px || img.height != scene.camera.height_px)
+    throw Error(fmt::format("image '{}' is {}x{} pixels but scene '{}' field 'camera.resolution' is [{}, {}].", path,
+                            img.width, img.height, scene.source, scene.camera.width_px, scene.camera.height_px));
+  img.provenance = ImageProvenance::from_attributes(file.attributes);
+
+  const bool rgb = file.has_channel("R") && file.has_channel("G") && file.has_channel("B");
+  if (mode == ChannelMode::kRgb && !rgb)
+    throw Error(fmt::format("image '{}' lacks one of the R, G and B channels that --channels rgb tests (its "
+                            "channels: {}).",
+                            path, file.channel_list()));
+  if (!rgb && !file.has_channel("Y"))
+    throw Error(fmt::format("image '{}' has neither R, G and B channels nor a Y channel (its channels: {}).", path,
+                            file.channel_list()));
+  std::vector<std::vector<double>> planes;
+  for (const char* c : kRgb)
+    if (rgb) planes.push_back(file.values(c));
+  if (!rgb) planes.push_back(file.values("Y"));
+  for (size_t c = 0; c < planes.size(); ++c) require_radiance(path, rgb ? kRgb[c] : "Y", planes[c], img.width);
+
+  const bool furnace_exr = rgb && file.has_channel(kVarianceRgb[0]) && file.has_channel(kVarianceRgb[1]) &&
+                           file.has_channel(kVarianceRgb[2]) && file.has_channel(kCountChannel);
+  std::vector<std::vector<double>> variances;
+  for (const char* c : kVarianceRgb)
+    if (file.has_channel(c)) {
+      variances.push_back(file.values(c));
+      require_variance(path, c, variances.back(), img.width);
+    }
+  if (file.has_channel(kCountChannel)) {
+    img.count = file.values(kCountChannel);
+    require_counts(path, img.count, img.width);
+  }
+  if (!furnace_exr) img.count.clear();
+
+  const size_t n = size_t(img.width) * size_t(img.height);
+  if (mode == ChannelMode::kRgb) {
+    img.channels = {"R", "G", "B"};
+    img.value = std::move(planes);
+    if (furnace_exr) img.variance = std::move(variances);
+  } else {
+    img.channels = {"gray"};
+    img.value.assign(1, std::vector<double>(n, 0.0));
+    for (const auto& plane : planes)
+      for (size_t i = 0; i < n; ++i) img.value[0][i] += plane[i] / double(planes.size());
+    if (furnace_exr) {
+      // ((s_R + s_G + s_B)/3)²: see the header.
+      img.variance.assign(1, std::vector<double>(n, 0.0));
+      for (size_t i = 0; i < n; ++i) {
+        double mean_sd = 0;
+        for (const auto& v : variances) mean_sd += std::sqrt(v[i]) / 3.0;
+        img.variance[0][i] = mean_sd * mean_sd;
+      }
+    }
+  }
+  return img;
+}
+
+void reject_identical_images(const std::vector<ForeignImage>& images, const std::vector<double>& reference) {
+  for (size_t a = 0; a < images.size(); ++a)
+    for (size_t b = a + 1; b < images.size(); ++b) {
+      if (images[a].value != images[b].value) continue;
+      bool exact = true;  // a zero-variance render: every value on the reference
+      for (const auto& plane : images[a].value)
+        for (size_t i = 0; i < plane.size() && exact; ++i)
+          exact = std::fabs(plane[i] - reference[i]) <= stats::kZeroVarianceRelTolerance * std::fabs(reference[i]);
+      if (exact) continue;
+      throw Error(fmt::format("images '{}' and '{}' hold identical pixels; independent renders (different seeds) "
+                              "are needed to measure the spread.",
+                              images[a].path, images[b].path));
+    }
+}
+
+}  // namespace furnace::verify
