@@ -14,6 +14,7 @@
 
 #include "analytic/global.h"
 #include "core/error.h"
+#include "core/provenance.h"
 #include "core/scene.h"
 #include "renderer/exr_io.h"
 #include "renderer/render.h"
@@ -169,6 +170,24 @@ int run_sweep(const std::vector<std::string>& strategies, int seeds, int spp, do
   return calibrated ? 0 : 1;
 }
 
+// The accepted names of each vocabulary, in table order, for CLI11's
+// IsMember validator (which also lists them in --help).
+std::vector<std::string> strategy_choices() {
+  std::vector<std::string> out;
+  for (const StrategyInfo& info : kStrategyTable) out.push_back(info.name);
+  return out;
+}
+std::vector<std::string> defect_choices() {
+  std::vector<std::string> out;
+  for (const DefectInfo& info : kDefectTable) out.push_back(info.name);
+  return out;
+}
+std::vector<std::string> light_selection_choices() {
+  std::vector<std::string> out;
+  for (const auto& [name, selection] : light_selection_names()) out.push_back(name);
+  return out;
+}
+
 // --max-depth, the same for render, verify and check: the longest path in
 // segments (the camera segment counts as 1; 2 is direct lighting), a number
 // >= 1 or the word "unlimited" (kUnlimitedDepth).
@@ -185,16 +204,19 @@ CLI::Option* add_max_depth_option(CLI::App* command, int& segments, const std::s
 int main(int argc, char** argv) {
   CLI::App app{"furnace: deterministic verification of Monte Carlo rendering against exact references"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", "furnace " + furnace_version());
+  app.footer("Exit codes (every subcommand): 0 pass, 1 fail, 2 bad input (arguments, scene files, images), "
+             "3 inconclusive (check: no test rejects but the test lacks the stated power).");
 
   std::string scene_path, strategy = "light_area", defect = "none", output = "out.exr";
   int spp = 64, threads = 0;
   uint64_t seed = 1;
   auto* render_cmd = app.add_subcommand("render", "Render a scene with one strategy to an OpenEXR image");
   render_cmd->add_option("--scene", scene_path, "Scene file (JSON)")->required();
-  render_cmd->add_option("--strategy", strategy, "Sampling strategy")->capture_default_str();
+  render_cmd->add_option("--strategy", strategy, "Sampling strategy")->capture_default_str()->check(CLI::IsMember(strategy_choices()));
   std::string light_selection = "uniform";
-  render_cmd->add_option("--light-selection", light_selection, "Light selection pmf: uniform or power")->capture_default_str();
-  render_cmd->add_option("--defect", defect, "Negative-control defect to inject (tests only)")->capture_default_str();
+  render_cmd->add_option("--light-selection", light_selection, "Light selection pmf")->capture_default_str()->check(CLI::IsMember(light_selection_choices()));
+  render_cmd->add_option("--defect", defect, "Negative-control defect to inject (tests only)")->capture_default_str()->check(CLI::IsMember(defect_choices()));
   render_cmd->add_option("--spp", spp, "Samples per pixel")->capture_default_str()->check(CLI::Range(1, 1 << 24));
   render_cmd->add_option("--seed", seed, "Random seed")->capture_default_str();
   render_cmd->add_option("--threads", threads, "Worker threads (0: all)")->capture_default_str()->check(CLI::Range(0, 1024));
@@ -213,12 +235,13 @@ int main(int argc, char** argv) {
   int v_max_depth = kUnlimitedDepth;
   auto* verify_cmd = app.add_subcommand("verify", "Render the analytic scenes and test them against their exact references");
   verify_cmd->add_option("--scene", v_scenes, "Scene file(s); default: the built-in suite");
-  verify_cmd->add_option("--strategy", v_strategies, "Strategy name(s); default: all");
+  verify_cmd->add_option("--strategy", v_strategies, "Strategy name(s); default: all")->check(CLI::IsMember(strategy_choices()));
   std::string v_light_selection;
   verify_cmd->add_option("--light-selection", v_light_selection,
                          "Light selection pmf, uniform or power, for every case (default: the built-in suite's own "
-                         "choice per case, uniform for --scene files)");
-  verify_cmd->add_option("--defect", v_defect, "Inject a negative-control defect (the run must then fail)")->capture_default_str();
+                         "choice per case, uniform for --scene files)")
+      ->check(CLI::IsMember(light_selection_choices()));
+  verify_cmd->add_option("--defect", v_defect, "Inject a negative-control defect (the run must then fail)")->capture_default_str()->check(CLI::IsMember(defect_choices()));
   verify_cmd->add_option("--spp", v_spp, "Samples per pixel")->capture_default_str()->check(CLI::Range(2, 1 << 24));
   verify_cmd->add_option("--seed", v_seed, "Random seed")->capture_default_str();
   verify_cmd->add_option("--threads", v_threads, "Worker threads (0: all)")->capture_default_str()->check(CLI::Range(0, 1024));
@@ -232,7 +255,7 @@ int main(int argc, char** argv) {
   uint64_t r_seed = 20261125;
   std::string r_dir = "reports/generated";
   auto* report_cmd = app.add_subcommand("report", "Write convergence reports (error against spp and time) for the built-in suite");
-  report_cmd->add_option("--strategy", r_strategies, "Strategy name(s); default: all");
+  report_cmd->add_option("--strategy", r_strategies, "Strategy name(s); default: all")->check(CLI::IsMember(strategy_choices()));
   report_cmd->add_option("--min-spp", r_min_spp, "Smallest spp (doubled up to --max-spp)")->capture_default_str()->check(CLI::Range(2, 1 << 24));
   report_cmd->add_option("--max-spp", r_max_spp, "Largest spp")->capture_default_str()->check(CLI::Range(2, 1 << 24));
   report_cmd->add_option("--seed", r_seed, "Random seed")->capture_default_str();
@@ -293,7 +316,7 @@ int main(int argc, char** argv) {
   int s_seeds = 50, s_spp = 1024, s_threads = 0;
   double s_alpha = 0.05;
   auto* sweep_cmd = app.add_subcommand("sweep", "Measure the false-alarm rate of the verification over many seeds (slow)");
-  sweep_cmd->add_option("--strategy", s_strategies, "Strategy name(s); default: all");
+  sweep_cmd->add_option("--strategy", s_strategies, "Strategy name(s); default: all")->check(CLI::IsMember(strategy_choices()));
   sweep_cmd->add_option("--seeds", s_seeds, "Seeds per case")->capture_default_str()->check(CLI::Range(1, 100000));
   sweep_cmd->add_option("--spp", s_spp, "Samples per pixel")->capture_default_str()->check(CLI::Range(2, 1 << 24));
   sweep_cmd->add_option("--case-alpha", s_alpha, "False-alarm level of each case")->capture_default_str()->check(CLI::Range(1e-6, 0.5));
@@ -302,7 +325,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0; every argument error is bad input (2).
+    return app.exit(e) == 0 ? 0 : 2;
   }
   try {
     if (*render_cmd) return run_render(scene_path, strategy, defect, spp, seed, threads, max_depth, roulette_depth, output, light_selection);
