@@ -5,6 +5,7 @@
 // with the path under test but the scene and the intersector.
 #include <algorithm>
 #include <cmath>
+#include <ostream>
 #include <string>
 
 #include <boost/math/quadrature/gauss_kronrod.hpp>
@@ -108,6 +109,8 @@ struct BruteCase {
   std::string name;
   Vec3 p, n;
 };
+
+void PrintTo(const BruteCase& c, std::ostream* os) { *os << c.name; }
 
 class ExactPathBruteForce : public testing::TestWithParam<BruteCase> {};
 

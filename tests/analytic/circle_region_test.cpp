@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <ostream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -24,6 +25,8 @@ struct OccludedCase {
   Circle2 light;
   std::vector<Circle2> occluders;
 };
+
+void PrintTo(const OccludedCase& c, std::ostream* os) { *os << c.name; }
 
 // Default scene (light R = 0.75 at h = 2, occluder ρ = 0.35 at h_o = 1, so
 // image radius 0.7 centred at −2·p_xy while the light centre is at −p_xy)
@@ -91,6 +94,8 @@ struct HiddenCase {
   Circle2 light;
   std::vector<Circle2> occluders;
 };
+
+void PrintTo(const HiddenCase& c, std::ostream* os) { *os << c.name; }
 
 class FullyHiddenDisk : public testing::TestWithParam<HiddenCase> {};
 

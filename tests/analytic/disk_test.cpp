@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <limits>
+#include <ostream>
 #include <random>
 #include <string>
 
@@ -65,6 +66,8 @@ struct DiskCase {
   double R, h, d;
 };
 
+void PrintTo(const DiskCase& c, std::ostream* os) { *os << c.name; }
+
 std::vector<DiskCase> all_disk_cases() {
   return {
       {"UnitOnAxis", 1, 1, 0},
@@ -102,6 +105,8 @@ struct QuadratureCase {
   std::string name;
   double R, h, d;
 };
+
+void PrintTo(const QuadratureCase& c, std::ostream* os) { *os << c.name; }
 
 class DiskAreaIntegral : public testing::TestWithParam<QuadratureCase> {};
 
@@ -188,6 +193,8 @@ struct ArcCase {
   Circle2 circle;
   double t0, sweep;
 };
+
+void PrintTo(const ArcCase& c, std::ostream* os) { *os << c.name; }
 
 // Direct quadrature of ½·s²/(h²+s²)·dφ/dt along the arc:
 // s²·dφ = x dy − y dx = r(r + cx cos t + cy sin t) dt.

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -146,6 +147,8 @@ struct NormalCase {
   std::string name;
   Vec3 n;
 };
+
+void PrintTo(const NormalCase& c, std::ostream* os) { *os << c.name; }
 
 std::vector<NormalCase> normals() {
   const double grazing = 89.9 * kPi / 180;

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <limits>
+#include <ostream>
 #include <string>
 
 #include <boost/math/quadrature/gauss_kronrod.hpp>
@@ -78,6 +79,8 @@ struct CircleCase {
   Circle2 light;
   std::vector<Circle2> occluders;
 };
+
+void PrintTo(const CircleCase& c, std::ostream* os) { *os << c.name; }
 
 class ExactVsCircleBooleans : public testing::TestWithParam<CircleCase> {};
 
@@ -202,6 +205,8 @@ struct TiltCase {
   std::string name;
   Vec3 n;
 };
+
+void PrintTo(const TiltCase& c, std::ostream* os) { *os << c.name; }
 
 class TiltedReceiverUnderDisk : public testing::TestWithParam<TiltCase> {};
 

@@ -3,6 +3,7 @@
 #include "analytic/light_moments.h"
 
 #include <cmath>
+#include <ostream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -20,6 +21,8 @@ struct SphereCase {
   std::string name;
   double D, R, beta;
 };
+
+void PrintTo(const SphereCase& c, std::ostream* os) { *os << c.name; }
 
 const std::vector<SphereCase> kSpheres{{"Overhead", 3, 1, 0}, {"Oblique", 2, 0.5, 0.9},
                                        {"StraddleUpper", 3, 1, 1.4}, {"StraddleLower", 2, 0.8, 1.9},
@@ -51,6 +54,8 @@ struct PolygonCase {
   Vec3 a, b, c;  // rectangle: corner, edge_u, edge_v; triangle: vertices
   Vec3 n;
 };
+
+void PrintTo(const PolygonCase& c, std::ostream* os) { *os << c.name; }
 
 class PolygonMoments : public testing::TestWithParam<PolygonCase> {};
 

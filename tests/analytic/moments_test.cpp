@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <ostream>
 #include <string>
 #include <tuple>
 
@@ -29,6 +30,8 @@ struct SceneSpec {
   std::vector<OccluderSpec> occluders;
   Vec3 p;
 };
+
+void PrintTo(const SceneSpec& c, std::ostream* os) { *os << c.name; }
 
 Scene build(const SceneSpec& s) {
   Scene scene;
@@ -82,6 +85,8 @@ std::string which_name(Which w) {
   }
   return "";
 }
+
+void PrintTo(Which w, std::ostream* os) { *os << which_name(w); }
 
 // E[Y²] = ∫_light (Y(x))² p(x) dA_x written out per estimator on the light
 // plane, with cos θ = cos θ' = h/r and dω = cos θ'/r² dA.

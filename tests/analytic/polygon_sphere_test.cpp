@@ -3,6 +3,7 @@
 // and their use as emitters and as environment blockers in whole scenes.
 #include <cmath>
 #include <limits>
+#include <ostream>
 #include <string>
 
 #include <boost/multiprecision/cpp_bin_float.hpp>
@@ -60,6 +61,8 @@ struct PatchCase {
   Vec3 n;
 };
 
+void PrintTo(const PatchCase& c, std::ostream* os) { *os << c.name; }
+
 class PolygonVsQuadrature : public testing::TestWithParam<PatchCase> {};
 
 // Tolerance 1e-11: the nested quadrature's; Lambert's sum itself is good to
@@ -102,6 +105,8 @@ struct SphereCase {
   std::string name;
   double D, R, beta;  // centre distance, radius, angle between n and the centre direction
 };
+
+void PrintTo(const SphereCase& c, std::ostream* os) { *os << c.name; }
 
 class SphereVsQuadrature : public testing::TestWithParam<SphereCase> {};
 

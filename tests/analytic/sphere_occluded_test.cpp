@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -165,6 +166,8 @@ struct PartialCase {
   Shape occluder;
   Vec3 n;
 };
+
+void PrintTo(const PartialCase& c, std::ostream* os) { *os << c.name; }
 
 class SphereOccludedVsArea : public testing::TestWithParam<PartialCase> {};
 

@@ -16,15 +16,18 @@
 // table (mean vs reference, z, variance measured vs predicted, time).
 #include <gtest/gtest.h>
 
-#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <ostream>
 #include <string>
 
+#include "tests/test_names.h"
 #include "verify/harness.h"
 
 namespace furnace::verify {
 namespace {
+
+using testing_support::camel_case;
 
 // 4096 for the light-sampling strategies (the map sampler's weight is nearly
 // constant); 16384 for those that sample the hemisphere, which find the sun
@@ -63,22 +66,15 @@ Verdict run(const EnvCase& e) {
   return v;
 }
 
-std::string camel(const std::string& snake) {
-  std::string name;
-  bool upper = true;
-  for (char ch : snake) {
-    if (!std::isalnum(static_cast<unsigned char>(ch))) { upper = true; continue; }
-    name += upper ? char(std::toupper(static_cast<unsigned char>(ch))) : ch;
-    upper = false;
-  }
-  return name;
+// "EnvironmentMapLightArea": the instance's name and how GoogleTest prints it.
+std::string name_of(const EnvCase& c) {
+  const std::string scene = c.scene;
+  return camel_case(scene.substr(0, scene.find('.'))) + camel_case(strategy_name(c.strategy));
 }
 
-std::string case_name(const testing::TestParamInfo<EnvCase>& info) {
-  std::string scene = info.param.scene;
-  scene = scene.substr(0, scene.find('.'));
-  return camel(scene) + camel(strategy_name(info.param.strategy));
-}
+void PrintTo(const EnvCase& c, std::ostream* os) { *os << name_of(c); }
+
+std::string case_name(const testing::TestParamInfo<EnvCase>& info) { return name_of(info.param); }
 
 // analytic::second_moment models these under a map (MIS moments refuse maps).
 bool variance_modelled(Strategy s) {

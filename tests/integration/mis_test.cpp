@@ -15,7 +15,6 @@
 #include <cstdio>
 #include <limits>
 #include <optional>
-#include <ostream>
 #include <string>
 
 #include <boost/math/distributions/normal.hpp>
@@ -24,6 +23,7 @@
 #include "renderer/embree_scene.h"
 #include "renderer/lights.h"
 #include "renderer/render.h"
+#include "tests/renderer/strategy_names.h"
 #include "verify/harness.h"
 #include "verify/statistics.h"
 
@@ -236,9 +236,6 @@ constexpr int kMeanSpp = 1024;
 constexpr double kCaseAlpha = 1e-3;
 
 class MisControl : public testing::TestWithParam<Strategy> {};
-}  // namespace
-void PrintTo(Strategy s, std::ostream* os) { *os << strategy_name(s); }
-namespace {
 
 TEST_P(MisControl, UnnormalisedWeightFailsAndCleanPasses) {
   verify::Case c;

@@ -23,11 +23,14 @@
 
 #include "analytic/global.h"
 #include "renderer/render.h"
+#include "tests/test_names.h"
 #include "verify/harness.h"
 #include "verify/statistics.h"
 
 namespace furnace::verify {
 namespace {
+
+using testing_support::camel_case;
 
 constexpr uint64_t kSeed = 0x9a7e2026;  // fixed: a pass today fails only when the code changes
 constexpr double kCaseAlpha = 1e-3;
@@ -198,15 +201,7 @@ INSTANTIATE_TEST_SUITE_P(
                     RouletteCase{"enclosure_box_rho99", 1}, RouletteCase{"enclosure_box_rho99", 2},
                     RouletteCase{"enclosure_box_rho99", 4}, RouletteCase{"enclosure_box_rho99", 8}),
     [](const testing::TestParamInfo<RouletteCase>& info) {
-      std::string name = info.param.scene;
-      std::string camel;
-      bool upper = true;
-      for (char ch : name) {
-        if (ch == '_') { upper = true; continue; }
-        camel += upper ? char(std::toupper(static_cast<unsigned char>(ch))) : ch;
-        upper = false;
-      }
-      return camel + "Depth" + std::to_string(info.param.max_depth);
+      return camel_case(info.param.scene) + "Depth" + std::to_string(info.param.max_depth);
     });
 
 // ---------------------------------------------------------------------------
@@ -259,14 +254,8 @@ INSTANTIATE_TEST_SUITE_P(
                     EnclosureCase{"enclosure_box_rho99", Strategy::kPathMis, kUnlimited, kRho99MisSpp}),
     [](const testing::TestParamInfo<EnclosureCase>& info) {
       const EnclosureCase& c = info.param;
-      std::string camel;
-      bool upper = true;
-      for (char ch : std::string(c.scene) + "_" + strategy_name(c.strategy)) {
-        if (ch == '_') { upper = true; continue; }
-        camel += upper ? char(std::toupper(static_cast<unsigned char>(ch))) : ch;
-        upper = false;
-      }
-      return camel + (c.max_depth == kUnlimited ? std::string("Unlimited") : "Depth" + std::to_string(c.max_depth));
+      return camel_case(c.scene) + camel_case(strategy_name(c.strategy)) +
+             (c.max_depth == kUnlimited ? std::string("Unlimited") : "Depth" + std::to_string(c.max_depth));
     });
 
 // ---------------------------------------------------------------------------

@@ -19,10 +19,10 @@
 // Šidák (verify/harness.cpp).
 #include <gtest/gtest.h>
 
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <ostream>
 #include <string>
 
 #include "analytic/global.h"
@@ -31,11 +31,15 @@
 #include "core/error.h"
 #include "renderer/lights.h"
 #include "renderer/render.h"
+#include "tests/renderer/strategy_names.h"
+#include "tests/test_names.h"
 #include "verify/harness.h"
 #include "verify/statistics.h"
 
 namespace furnace::verify {
 namespace {
+
+using testing_support::camel_case;
 
 constexpr int kSpp = 1024;
 constexpr uint64_t kSeed = 0x9017e5;  // fixed: a pass today fails only when the code changes
@@ -43,17 +47,6 @@ constexpr uint64_t kSeed = 0x9017e5;  // fixed: a pass today fails only when the
 constexpr double kCaseAlpha = 1e-3;
 
 std::string scene_path(const std::string& name) { return std::string(FURNACE_SCENE_DIR) + "/" + name + ".json"; }
-
-std::string camel(const std::string& snake) {
-  std::string name;
-  bool upper = true;
-  for (char ch : snake) {
-    if (ch == '_') { upper = true; continue; }
-    name += upper ? char(std::toupper(static_cast<unsigned char>(ch))) : ch;
-    upper = false;
-  }
-  return name;
-}
 
 Verdict run(const std::string& scene, Strategy s, LightSelection selection, Defect d = Defect::kNone) {
   Case c;
@@ -77,6 +70,13 @@ struct PointCase {
   Strategy strategy;
   LightSelection selection;
 };
+
+// "PointLightLightAreaUniform": the instance's name and how GoogleTest prints it.
+std::string name_of(const PointCase& c) {
+  return camel_case(c.scene) + camel_case(strategy_name(c.strategy)) + camel_case(light_selection_name(c.selection));
+}
+
+void PrintTo(const PointCase& c, std::ostream* os) { *os << name_of(c); }
 
 class PointLightCase : public testing::TestWithParam<PointCase> {};
 
@@ -103,11 +103,7 @@ std::vector<PointCase> point_cases() {
 }
 
 INSTANTIATE_TEST_SUITE_P(PointLights, PointLightCase, testing::ValuesIn(point_cases()),
-                         [](const testing::TestParamInfo<PointCase>& info) {
-                           const PointCase& c = info.param;
-                           return camel(c.scene) + camel(strategy_name(c.strategy)) +
-                                  camel(light_selection_name(c.selection));
-                         });
+                         [](const testing::TestParamInfo<PointCase>& info) { return name_of(info.param); });
 
 // 2. --------------------------------------------------------------------------
 
@@ -147,6 +143,8 @@ struct Control {
   LightSelection selection;
   Defect defect;
 };
+
+void PrintTo(const Control& c, std::ostream* os) { *os << c.name; }
 
 class PointLightNegativeControl : public testing::TestWithParam<Control> {};
 
@@ -227,7 +225,7 @@ TEST_P(OneSampleOnAreaLights, PassesMeanTests) {
 
 INSTANTIATE_TEST_SUITE_P(BuiltinScenes, OneSampleOnAreaLights,
                          testing::Values("disk_occluder", "sphere_light", "rectangle_light", "three_lights"),
-                         [](const testing::TestParamInfo<const char*>& info) { return camel(info.param); });
+                         [](const testing::TestParamInfo<const char*>& info) { return camel_case(info.param); });
 
 // 6. --------------------------------------------------------------------------
 

@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -31,10 +32,13 @@
 #include "analytic/reference.h"
 #include "core/scene.h"
 #include "renderer/render.h"
+#include "tests/test_names.h"
 #include "verify/harness.h"
 
 namespace furnace::verify {
 namespace {
+
+using testing_support::camel_case;
 
 constexpr uint64_t kSeed = 0x57ab1e;  // fixed: a pass today fails only when the code changes
 constexpr double kCaseAlpha = 1e-3;
@@ -120,6 +124,8 @@ struct ScaledCase {
   std::string name;
 };
 
+void PrintTo(const ScaledCase& c, std::ostream* os) { *os << c.name; }
+
 class ScaledScene : public testing::TestWithParam<ScaledCase> {};
 
 TEST_P(ScaledScene, SameReferenceAndEveryStrategyPasses) {
@@ -163,7 +169,7 @@ std::vector<ScaledCase> scaled_cases() {
 }
 
 INSTANTIATE_TEST_SUITE_P(Stability, ScaledScene, testing::ValuesIn(scaled_cases()),
-                         [](const testing::TestParamInfo<ScaledCase>& info) { return info.param.name; });
+                         [](const testing::TestParamInfo<ScaledCase>& info) { return camel_case(info.param.name); });
 
 // Control: at scale 10⁻⁴ a shadow test that is skipped must be seen.
 TEST(ScaledSceneControl, SkippedShadowRayFailsAtTinyScale) {
@@ -198,6 +204,8 @@ struct HardLight {
   std::string name;
   json light;
 };
+
+void PrintTo(const HardLight& c, std::ostream* os) { *os << c.name; }
 
 class HardLightScene : public testing::TestWithParam<HardLight> {};
 
@@ -238,7 +246,7 @@ INSTANTIATE_TEST_SUITE_P(
                        {"shape", {{"type", "triangle"}, {"p0", {-1.5, 2.5, 0.05}}, {"p1", {0.0, 4.0, 0.05}},
                                   {"p2", {1.5, 2.5, 0.05}}}},
                        {"emission", 3.0}}}),
-    [](const testing::TestParamInfo<HardLight>& info) { return info.param.name; });
+    [](const testing::TestParamInfo<HardLight>& info) { return camel_case(info.param.name); });
 
 }  // namespace
 }  // namespace furnace::verify

@@ -9,15 +9,18 @@
 // each case detects with power kReportedPower.
 #include <gtest/gtest.h>
 
-#include <cctype>
 #include <filesystem>
 #include <limits>
+#include <ostream>
 #include <string>
 
+#include "tests/test_names.h"
 #include "verify/harness.h"
 
 namespace furnace::verify {
 namespace {
+
+using testing_support::camel_case;
 
 // 4096: enough that hemisphere sampling, whose per-sample estimate at the
 // centre pixels is nearly Bernoulli with p ≈ 1 %, gives pixel means close
@@ -55,16 +58,23 @@ void report(const Verdict& v) {
   testing::Test::RecordProperty("z", std::to_string(v.z));
 }
 
-std::string camel(const std::string& snake) {
-  std::string name;
-  bool upper = true;
-  for (char ch : snake) {
-    if (!std::isalnum(static_cast<unsigned char>(ch))) { upper = true; continue; }
-    name += upper ? char(std::toupper(static_cast<unsigned char>(ch))) : ch;
-    upper = false;
-  }
+// "DiskOccluderLightAreaDepth3PowerSelection": the instance's name and how
+// GoogleTest prints it.
+std::string name_of(const Case& c) {
+  const std::string scene = std::filesystem::path(c.scene_path).stem().string();
+  std::string name = camel_case(scene) + camel_case(strategy_name(c.options.strategy));
+  if (c.options.max_depth != std::numeric_limits<int>::max()) name += "Depth" + std::to_string(c.options.max_depth);
+  if (c.options.light_selection == LightSelection::kPower) name += "PowerSelection";
   return name;
 }
+
+}  // namespace
+
+// GoogleTest prints a suite case through this (found by argument-dependent
+// lookup, so in Case's namespace).
+void PrintTo(const Case& c, std::ostream* os) { *os << name_of(c); }
+
+namespace {
 
 // The built-in suite of `furnace verify`: every scene with every strategy
 // that has a reference for it, at kSpp.
@@ -85,21 +95,15 @@ TEST_P(SuiteCase, PassesMeanTests) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Builtin, SuiteCase, testing::ValuesIn(default_suite(kSpp, kSeed, 0)),
-                         [](const testing::TestParamInfo<Case>& info) {
-                           const Case& c = info.param;
-                           std::string scene = std::filesystem::path(c.scene_path).stem().string();
-                           std::string name = camel(scene) + camel(strategy_name(c.options.strategy));
-                           if (c.options.max_depth != std::numeric_limits<int>::max())
-                             name += "Depth" + std::to_string(c.options.max_depth);
-                           if (c.options.light_selection == LightSelection::kPower) name += "PowerSelection";
-                           return name;
-                         });
+                         [](const testing::TestParamInfo<Case>& info) { return name_of(info.param); });
 
 struct Control {
   const char* name;
   Strategy strategy;
   Defect defect;
 };
+
+void PrintTo(const Control& c, std::ostream* os) { *os << c.name; }
 
 class NegativeControl : public testing::TestWithParam<Control> {};
 

@@ -29,6 +29,7 @@
 #include "renderer/light_strategy.h"
 #include "renderer/lights.h"
 #include "renderer/render.h"
+#include "tests/renderer/strategy_names.h"
 
 namespace furnace {
 namespace {
@@ -89,16 +90,7 @@ TEST_P(SkyFloorZeroVariance, EverySampleIsAlbedoTimesSky) {
 INSTANTIATE_TEST_SUITE_P(ExactStrategies, SkyFloorZeroVariance,
                          testing::Values(Strategy::kCosineHemisphere, Strategy::kBsdf, Strategy::kLightArea,
                                          Strategy::kLightSolidAngle, Strategy::kMisBalance, Strategy::kMisPower),
-                         [](const auto& info) {
-                           std::string out;
-                           bool upper = true;
-                           for (char ch : strategy_name(info.param)) {
-                             if (ch == '_') { upper = true; continue; }
-                             out += upper ? char(std::toupper(ch)) : ch;
-                             upper = false;
-                           }
-                           return out;
-                         });
+                         testing_support::strategy_param_name);
 
 // Control: uniform hemisphere sampling is not exact; every pixel varies by
 // far more than round-off (Var Y/E² = 1/3 for the sky).

@@ -10,6 +10,7 @@
 #include "renderer/direct_strategies.h"
 #include "floor_fixture.h"
 #include "test_support.h"
+#include "tests/renderer/strategy_names.h"
 
 namespace furnace {
 namespace {

@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "renderer/render.h"
 #include "test_support.h"
+#include "tests/renderer/strategy_names.h"
 
 namespace furnace {
 namespace {
@@ -18,29 +19,15 @@ namespace {
 using testing_support::make_camera;
 using testing_support::make_floor;
 using testing_support::make_object;
+using testing_support::strategy_param_name;
 using testing_support::Welford;
 
 constexpr uint64_t kSeed = 0x0e2d;
-
-std::string camel(const std::string& snake) {
-  std::string out;
-  bool upper = true;
-  for (char c : snake) {
-    if (c == '_') { upper = true; continue; }
-    out += upper ? char(std::toupper(c)) : c;
-    upper = false;
-  }
-  return out;
-}
 
 std::vector<Strategy> every_strategy() {
   std::vector<Strategy> s = direct_strategies();
   for (Strategy p : path_tracing_strategies()) s.push_back(p);
   return s;
-}
-
-std::string strategy_param_name(const testing::TestParamInfo<Strategy>& info) {
-  return camel(strategy_name(info.param));
 }
 
 Scene default_scene() { return load_scene(std::string(FURNACE_SCENE_DIR) + "/disk_occluder.json"); }

@@ -1,7 +1,7 @@
 // The warps of renderer/sampling.h: inverse round trips, the pdf integrates to
 // 1 by quadrature, the Jacobian of the map equals 1/pdf, the mean of g/pdf
 // equals ∫g, the pdf is 0 outside the support, and Malley's map has the
-// density of the inversion map. (Chi-square tests live in tests/verify.)
+// density of the inversion map. (Their chi-square tests are in warp_chi2_test.cpp.)
 #include <gtest/gtest.h>
 
 #include <functional>

@@ -17,6 +17,11 @@
 #include "test_support.h"
 
 namespace furnace {
+
+// GoogleTest prints an EmitterSampling parameter through this (found by
+// argument-dependent lookup, so in the enum's namespace).
+void PrintTo(EmitterSampling m, std::ostream* os) { *os << (m == EmitterSampling::kArea ? "area" : "solid_angle"); }
+
 namespace {
 
 using testing_support::make_floor;

@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <ostream>
 #include <string>
 
 #include "core/scene.h"
@@ -59,6 +60,8 @@ struct TriangleCase {
   Triangle triangle;
   Vec3 origin;
 };
+
+void PrintTo(const TriangleCase& c, std::ostream* os) { *os << c.name; }
 
 // Barycentric (b1, b2) of the point where the ray origin + t·w meets the triangle's plane.
 std::array<double, 2> barycentric_of_hit(const Triangle& tri, const Vec3& origin, const Vec3& w) {
@@ -109,6 +112,8 @@ struct RectangleCase {
   Rectangle rectangle;
   Vec3 origin;
 };
+
+void PrintTo(const RectangleCase& c, std::ostream* os) { *os << c.name; }
 
 // A 2 × 1 rectangle in z = 0, normal +z, and a tilted one.
 const Rectangle kRectangle{{-1, -0.5, 0}, {2, 0, 0}, {0, 1, 0}};

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -118,6 +119,8 @@ struct SelectionCase {
   const char* scene;
   LightSelection selection;
 };
+
+void PrintTo(const SelectionCase& c, std::ostream* os) { *os << c.name; }
 
 class LightSelectionChi2 : public testing::TestWithParam<SelectionCase> {};
 

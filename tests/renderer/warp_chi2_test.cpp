@@ -16,6 +16,7 @@
 #include <functional>
 #include <iostream>
 #include <limits>
+#include <ostream>
 #include <string>
 
 #include "core/vec3.h"
@@ -49,6 +50,8 @@ struct DirectionCase {
   SphericalGrid grid;
   DirectionPdf true_pdf = nullptr;  // controls only: the sampler's real density
 };
+
+void PrintTo(const DirectionCase& c, std::ostream* os) { *os << c.name; }
 
 ConeAperture cone_from_angle(double theta_max) {
   const double s = std::sin(theta_max);
@@ -94,6 +97,8 @@ struct PlanarCase {
   PlanarGrid grid;
   PlanarPdf true_pdf = nullptr;
 };
+
+void PrintTo(const PlanarCase& c, std::ostream* os) { *os << c.name; }
 
 // Disk points as q = (r², φ/2π), equal-area coordinates: dA = π·dq₀·dq₁,
 // so a density in area times π is the density in q.

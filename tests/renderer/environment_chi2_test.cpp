@@ -26,6 +26,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -118,6 +119,8 @@ struct MapCase {
   std::string name;
   std::shared_ptr<const LatLongMap> (*make)();
 };
+
+void PrintTo(const MapCase& c, std::ostream* os) { *os << c.name; }
 
 class EnvironmentSamplerChi2 : public testing::TestWithParam<MapCase> {};
 

@@ -20,6 +20,7 @@
 #include "renderer/embree_scene.h"
 #include "renderer/light_strategy.h"
 #include "renderer/lights.h"
+#include "tests/test_names.h"
 
 namespace furnace {
 namespace {
@@ -245,18 +246,7 @@ TEST_P(StrategyConsistency, WrongPdfIsDetected) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, StrategyConsistency, testing::ValuesIn(kScenes), [](const auto& info) {
-  std::string name = info.param.substr(0, info.param.find('.'));
-  std::string out;
-  bool upper = true;
-  for (char ch : name) {
-    if (ch == '_') {
-      upper = true;
-      continue;
-    }
-    out += upper ? char(std::toupper(ch)) : ch;
-    upper = false;
-  }
-  return out;
+  return testing_support::camel_case(info.param.substr(0, info.param.find('.')));
 });
 
 }  // namespace
