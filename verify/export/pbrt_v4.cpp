@@ -147,7 +147,7 @@ std::string header(const Scene& scene, const PbrtV4Options& options) {
       "# Render K >= 2 times with distinct seeds, then test the images against the exact reference:\n"
       "#   pbrt --seed S --outfile render_S.exr this.pbrt\n"
       "#   furnace check --scene {} --max-depth {} --image render_1.exr --image render_2.exr ...\n"
-      "# pbrt's answer is furnace's global illumination at {}.\n"
+      "# pbrt's answer is furnace's global illumination at {}{}.\n"
       "# Facts this file relies on:\n"
       "# - Option \"disablepixeljitter\": every camera ray passes through its pixel's centre, as furnace's one ray\n"
       "#   per pixel centre; the box filter keeps radius 0.5 (radius 0 makes every pixel NaN).\n"
@@ -164,10 +164,11 @@ std::string header(const Scene& scene, const PbrtV4Options& options) {
       "#   The orthographic rays start on the plane through the eye, as furnace's start on its image plane, and\n"
       "#   see every shape, as furnace's camera does.\n"
       "# - {}\n",
-      scene.name, scene.source, scene.source,
-      options.max_segments == kUnlimitedPathSegments ? std::string("2147483647")
-                                                     : std::to_string(options.max_segments),
-      depth_words, max_depth, depth_words,
+      scene.name, scene.source, scene.source, check_max_depth(scene, options), depth_words,
+      check_max_depth(scene, options) == 0
+          ? ",\n# which is direct lighting here: light reaches the eye after at most one bounce, off the only reflector"
+          : "",
+      max_depth, depth_words,
       options.seed ? fmt::format("\"integer seed\" {} is fixed here and overrides `pbrt --seed`.", *options.seed)
                    : std::string("No seed is set here: `pbrt --seed S` chooses the independent sampler's numbers,\n"
                                  "#   which depend only on (pixel, seed)."));
@@ -182,6 +183,20 @@ std::string header(const Scene& scene, const PbrtV4Options& options) {
 }
 
 }  // namespace
+
+bool direct_lighting_is_complete(const Scene& scene) {
+  int reflecting = 0;
+  for (const Object& o : scene.objects) {
+    if (!reflects(o)) continue;
+    ++reflecting;
+    if (o.material.type != BsdfType::kLambertian || std::holds_alternative<Sphere>(o.shape)) return false;
+  }
+  return reflecting <= 1;
+}
+
+int check_max_depth(const Scene& scene, const PbrtV4Options& options) {
+  return direct_lighting_is_complete(scene) && options.max_segments >= 2 ? 0 : options.max_segments;
+}
 
 int pbrt_max_depth(int max_segments) {
   FURNACE_CHECK(max_segments >= 1);

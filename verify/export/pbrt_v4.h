@@ -5,9 +5,10 @@
 // max_segments − 1 renders the radiance that furnace's global-illumination
 // reference gives at max_segments path segments (the camera's segment
 // included): `furnace check --max-depth <max_segments>`. The default,
-// unlimited depth, is the complete light transport; for the scenes where
-// light reaches the eye after at most one bounce (a single planar reflector,
-// every other object black) it equals the direct-lighting reference too.
+// unlimited depth, is the complete light transport. Where light reaches the
+// eye after at most one bounce (a single planar Lambertian reflector, every
+// other object black) that is also the direct-lighting reference,
+// `furnace check --max-depth 0`; check_max_depth() names the one to use.
 //
 // The facts about pbrt-v4 the export relies on, and how each was measured,
 // open pbrt_v4.cpp and every exported file.
@@ -38,6 +39,17 @@ struct PbrtV4Options {
 // traces M + 1 segments. Unlimited maps to M = INT_MAX − 1, which pbrt never
 // reaches: Russian roulette ends its paths.
 int pbrt_max_depth(int max_segments);
+
+// True when light reaches the eye after at most one bounce, off the only
+// reflecting object, a planar Lambertian one (every other object black, no
+// mirror): any depth of 2 or more segments then renders furnace's
+// direct-lighting reference.
+bool direct_lighting_is_complete(const Scene& scene);
+
+// The `furnace check --max-depth` value whose reference is what pbrt renders
+// from this export: 0 (direct lighting) when direct_lighting_is_complete()
+// and the depth allows one bounce, else options.max_segments.
+int check_max_depth(const Scene& scene, const PbrtV4Options& options);
 
 // Empty when pbrt-v4 can express the scene exactly; otherwise the reason,
 // one sentence naming the scene and the feature pbrt-v4 lacks.

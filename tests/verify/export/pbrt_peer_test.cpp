@@ -32,6 +32,7 @@
 #include <fmt/format.h>
 
 #include "analytic/global.h"
+#include "analytic/reference.h"
 #include "core/scene.h"
 #include "verify/export/pbrt_v4.h"
 
@@ -48,8 +49,10 @@ constexpr int kSpp = 256;
 // Seeds kFirstSeed, kFirstSeed + 1, ...: pbrt's independent sampler draws
 // from (pixel, seed) alone, so distinct seeds make independent renders.
 constexpr int kFirstSeed = 1;
-// Every export traces unlimited depth; check compares with furnace's
-// unlimited-depth reference (numerically INT_MAX segments).
+// Every correct export traces unlimited depth; check compares with the
+// reference check_max_depth() names: furnace's unlimited-depth global
+// illumination (numerically INT_MAX segments), or direct lighting (0) where
+// light reaches the eye after at most one bounce and the two agree.
 static_assert(kUnlimitedPathSegments == analytic::kUnlimitedSegments);
 constexpr int kPbrtThreads = 2;
 
@@ -124,8 +127,9 @@ struct Diagnostics {
 
 // The across-images t statistics `furnace check` tests, recomputed for the
 // report line (the check prints the image-mean one only).
-Diagnostics diagnostics(const Scene& scene, const std::vector<fs::path>& images) {
-  const std::vector<double> reference = analytic::global_reference_image(scene, kUnlimitedPathSegments);
+Diagnostics diagnostics(const Scene& scene, int check_depth, const std::vector<fs::path>& images) {
+  const std::vector<double> reference = check_depth == 0 ? analytic::reference_image(scene)
+                                                         : analytic::global_reference_image(scene, check_depth);
   std::vector<std::vector<double>> values;
   for (const fs::path& p : images) values.push_back(read_gray(p));
   const size_t k = values.size(), n = reference.size();
@@ -159,10 +163,15 @@ std::string detectable_bias(const std::string& check_output) {
 
 class PbrtPeer {
  protected:
-  // Renders `pbrt_file` K times, checks the images against `scene_file` and
+  // Exports `scene_for_export`, renders it K times, checks the images
+  // against `scene_file` at the depth a correct export of it needs, and
   // returns check's exit code; `flip` mirrors every image first.
   int render_and_check(const std::string& label, const fs::path& scene_file, const Scene& scene_for_export,
                        const PbrtV4Options& options, bool flip) {
+    const Scene scene = load_scene(scene_file);
+    PbrtV4Options correct;
+    correct.spp = options.spp;
+    const int check_depth = check_max_depth(scene, correct);
     const auto start = std::chrono::steady_clock::now();
     const fs::path pbrt_file = dir_ / "scene.pbrt";
     write_pbrt_v4(scene_for_export, options, pbrt_file);
@@ -181,13 +190,13 @@ class PbrtPeer {
       image_args += " --image " + quoted(image);
     }
     const CommandResult check = run(fmt::format("{} check --scene {} --max-depth {}{}", FURNACE_CLI,
-                                                quoted(scene_file), kUnlimitedPathSegments, image_args));
-    const Diagnostics d = diagnostics(load_scene(scene_file), images);
+                                                quoted(scene_file), check_depth, image_args));
+    const Diagnostics d = diagnostics(scene, check_depth, images);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("%s", check.output.c_str());
-    std::printf("peer: %s K=%d spp=%d check exit %d, worst pixel |t| %.2f, image-mean t %.2f, detectable bias %s, "
+    std::printf("peer: %s K=%d spp=%d check --max-depth %d exit %d, worst pixel |t| %.2f, image-mean t %.2f, detectable bias %s, "
                 "wall %.1f s\n",
-                label.c_str(), kRenders, options.spp, check.exit_code, d.worst_pixel_t, d.image_mean_t,
+                label.c_str(), kRenders, options.spp, check_depth, check.exit_code, d.worst_pixel_t, d.image_mean_t,
                 detectable_bias(check.output).c_str(), seconds);
     return check.exit_code;
   }

@@ -137,6 +137,21 @@ TEST(PbrtV4Export, MaxDepthIsSegmentsMinusOne) {
   EXPECT_THROW(export_pbrt_v4(scene, options), Error);
 }
 
+TEST(PbrtV4Export, DirectLightingIsCompleteOnlyWithOnePlanarLambertianReflector) {
+  for (const char* name : {"disk_occluder", "environment_blocker", "point_and_area", "three_lights", "sphere_light"})
+    EXPECT_TRUE(direct_lighting_is_complete(builtin(name))) << name;
+  for (const char* name : {"enclosure_box", "enclosure_sphere", "white_furnace", "convex_furnace", "mirror_disk"})
+    EXPECT_FALSE(direct_lighting_is_complete(builtin(name))) << name;
+  PbrtV4Options options;
+  EXPECT_EQ(check_max_depth(builtin("environment_blocker"), options), 0);
+  EXPECT_EQ(check_max_depth(builtin("mirror_disk"), options), kUnlimitedPathSegments);
+  options.max_segments = 1;  // emission only: not direct lighting
+  EXPECT_EQ(check_max_depth(builtin("disk_occluder"), options), 1);
+  const std::string text = export_pbrt_v4(builtin("environment_blocker"), {});
+  EXPECT_TRUE(contains(text, "--max-depth 0 ")) << text;
+  EXPECT_TRUE(contains(text, "which is direct lighting here")) << text;
+}
+
 TEST(PbrtV4Export, EmittersAreScaledIlluminantsAndReflectancesConstantSpectra) {
   const std::string text = export_pbrt_v4(builtin("disk_occluder"), {});
   EXPECT_TRUE(contains(text, "AreaLightSource \"diffuse\" \"float scale\" 4\n")) << text;
