@@ -1,22 +1,23 @@
 // pbrt-v4 export. The facts it relies on, each measured with pbrt-v4 5f7a6068
-// (the peer binary of tests/verify/export/pbrt_peer_test.cpp) unless it is
-// stated as read from the file-format documentation:
+// (the peer binary of tests/verify/export/pbrt_peer_test.cpp; K = 16 renders
+// of 256 spp checked by `furnace check`) or read where stated:
 //
 // | fact | how it was measured |
 // |---|---|
-// | `Option "disablepixeljitter" true` puts every camera ray through its pixel's centre | shadow-edge pixels of disk_occluder pass `furnace check` with it and fail without it |
-// | a box filter of radius 0 gives NaN pixels (the film divides by the filter's integral); the default radius 0.5 is harmless once jitter is off | rendered: every pixel NaN |
-// | Film "rgb", "savefp16" false, sensor "cie1931", iso 100, shutter [0, 1]: a float EXR whose pixel value is radiance | every built-in scene passes |
-// | a light with no spectrum emits the colour space's illuminant (D65 for sRGB) divided by its luminance: "float scale" X gives R = G = B = X, for area, point and infinite lights alike; "rgb L" is not exact | the +1 % radiance control fails, the scenes pass |
-// | reflectance as the constant spectrum [300 ρ 900 ρ] reflects ρ in every channel ("rgb" reflectance is up-sampled to a non-constant spectrum) | the albedo 0.49-for-0.5 control fails, the scenes pass |
-// | integrator "path" with maxdepth M traces M + 1 path segments (the camera's included); its Russian roulette divides by the survival probability | enclosure_box_rho5 at maxdepth 2 passes the 3-segment reference and fails 2 and 4; enclosure_box_rho99 passes at unlimited depth |
-// | disks face +z and emit on their front only; a disk's hit normal flips under a handedness-swapping transform but its sampled normal does not, so disks are placed by proper rotations only | disk lights facing -z pass; documentation and source |
+// | `Option "disablepixeljitter" true` puts every camera ray through its pixel's centre, furnace's one ray per pixel | point_light (a hard shadow) passes with it; without it 39 of 1024 pixels fail |
+// | a box filter of radius 0 makes every pixel NaN (reported, written as 0); radius 0.5 is harmless once jitter is off | rendered |
+// | Film "rgb", "savefp16" false, sensor "cie1931", iso 100, shutter [0, 1]: a float EXR whose pixel value is radiance | every exportable built-in scene passes |
+// | a light with no spectrum emits the colour space's illuminant (D65 for sRGB) divided by its luminance, so "float scale" X gives R = G = B = X, for area, point and infinite lights alike | the scenes pass, the +1 % radiance control fails; source (lights.cpp) |
+// | reflectance as the constant spectrum [300 ρ 900 ρ] reflects ρ at every wavelength | the scenes pass, the albedo 0.49-for-0.5 control fails |
+// | for gray values "rgb L" [c c c] and "rgb reflectance" [ρ ρ ρ] render pixel-identical images to the two forms above; the spectrum forms are kept because their meaning does not rest on the RGB-to-spectrum tables | disk_occluder rendered both ways |
+// | integrator "path" with maxdepth M traces M + 1 path segments (the camera's included); its Russian roulette divides by the survival probability | enclosure_box_rho5 at maxdepth 2 passes the 3-segment reference and fails the 2- and 4-segment ones; enclosure_box_rho99 (mean path length 100) passes at unlimited depth |
+// | disks face +z and emit on their front only; a disk's hit normal flips under a handedness-swapping transform but its sampled normal does not, so disks are placed by proper rotations only | source (shapes.h); disk lights facing -z pass |
 // | triangles face cross(p1 − p0, p2 − p0), spheres outward, as in furnace | one-sided rectangle lights and enclosure walls pass |
-// | `Scale -1 1 1` before `LookAt` makes image right = cross(forward, up) (LookAt alone gives cross(up, forward)); an orthographic camera's rays start on the plane through the eye, as furnace's do | the mirrored-image control fails, asymmetric scenes pass |
+// | `Scale -1 1 1` before `LookAt` makes image right = cross(forward, up) (LookAt alone gives cross(up, forward)); an orthographic camera's rays start on the plane through the eye, as furnace's do | asymmetric scenes pass, the mirrored-image control fails |
 // | no per-object camera visibility: the camera sees every shape, as furnace's camera does | same camera placement as furnace |
-// | a conductor with "reflectance" r and roughness 0 is a smooth mirror whose Fresnel reflectance is r at normal incidence only (eta 1, k = 2√r/√(1−r), r clamped to 0.9999) | source; mirror_disk passes |
+// | a conductor with "reflectance" r and roughness 0 is a smooth mirror whose Fresnel reflectance is r at normal incidence only (eta 1, k = 2√r/√(1−r), r clamped to 0.9999) | source (materials.h); mirror_disk passes |
 // | environment maps only as equal-area octahedral square images | documentation |
-// | the independent sampler's numbers depend only on (pixel, seed); a seed in the file overrides `pbrt --seed` | renders with distinct --seed differ, equal ones are identical |
+// | the independent sampler's numbers depend only on (pixel, seed); a seed in the file overrides `pbrt --seed` | equal seeds give pixel-identical renders, distinct ones differ; source (samplers.cpp) |
 #include "verify/export/pbrt_v4.h"
 
 #include <cmath>
