@@ -20,6 +20,7 @@
 // | the independent sampler's numbers depend only on (pixel, seed); a seed in the file overrides `pbrt --seed` | equal seeds give pixel-identical renders, distinct ones differ; source (samplers.cpp) |
 #include "verify/export/pbrt_v4.h"
 
+#include <algorithm>
 #include <cmath>
 #include <variant>
 
@@ -43,6 +44,12 @@ constexpr double kPbrtMaxConductorReflectance = 0.9999;
 std::string num(double x) { return fmt::format("{}", x + 0.0); }
 std::string point(const Vec3& p) { return fmt::format("{} {} {}", num(p.x), num(p.y), num(p.z)); }
 std::string constant_spectrum(double value) { return fmt::format("[300 {0} 900 {0}]", value); }
+// A name on one comment line: a line break in it would end the comment.
+std::string comment_text(std::string name) {
+  std::replace(name.begin(), name.end(), '\n', ' ');
+  std::replace(name.begin(), name.end(), '\r', ' ');
+  return name;
+}
 
 bool reflects(const Object& o) { return o.material.albedo > 0; }
 bool is_reflecting_mirror(const Object& o) { return reflects(o) && o.material.type == BsdfType::kMirror; }
@@ -82,8 +89,8 @@ std::optional<std::string> refusal_reason(const Scene& scene) {
       // equals ρ at normal incidence only; export it only where every path
       // meets it there.
       if (auto reason = mirror_refusal(scene, o))
-        return "pbrt-v4 has no ideal mirror of reflectance below 1 (its smooth conductor matches only at normal "
-               "incidence) and " + *reason;
+        return "pbrt-v4 has no ideal mirror (its smooth conductor of reflectance r reflects r at normal incidence "
+               "only) and " + *reason;
     }
   }
   return std::nullopt;
@@ -129,7 +136,7 @@ std::string shape(const Shape& s) {
 }
 
 std::string object(const Object& o) {
-  std::string text = fmt::format("# {}\nAttributeBegin\n", o.name);
+  std::string text = fmt::format("# {}\nAttributeBegin\n", comment_text(o.name));
   text += material(o);
   if (o.is_emitter())
     text += fmt::format("AreaLightSource \"diffuse\" \"float scale\" {}{}\n", num(o.emitted_radiance),
@@ -156,7 +163,8 @@ std::string header(const Scene& scene, const PbrtV4Options& options) {
       "#   radiance. pbrt renders spectrally, so R, G and B carry different noise; their mean is the gray value.\n"
       "# - No light names a spectrum: each then emits the colour space's illuminant (D65) divided by its luminance,\n"
       "#   so \"float scale\" X gives R = G = B = X (furnace's gray radiance Le, intensity I or environment L).\n"
-      "# - Reflectances are constant spectra [300 r 900 r] (an \"rgb\" one would be up-sampled non-constant).\n"
+      "# - Reflectances are constant spectra [300 r 900 r]: r at every wavelength, whatever pbrt's RGB-to-spectrum\n"
+      "#   tables (a gray \"rgb\" reflectance or \"rgb L\" renders identically with 5f7a6068).\n"
       "# - Integrator \"path\" maxdepth M traces M + 1 path segments, the camera's included: maxdepth {}\n"
       "#   is {}. Russian roulette ends the paths, unbiased (it divides by the survival probability).\n"
       "# - Disks face +z and are placed by proper rotations; triangles face cross(p1 - p0, p2 - p0); spheres face\n"
@@ -165,7 +173,8 @@ std::string header(const Scene& scene, const PbrtV4Options& options) {
       "#   The orthographic rays start on the plane through the eye, as furnace's start on its image plane, and\n"
       "#   see every shape, as furnace's camera does.\n"
       "# - {}\n",
-      scene.name, scene.source, scene.source, check_max_depth(scene, options), depth_words,
+      comment_text(scene.name), comment_text(scene.source), comment_text(scene.source),
+      check_max_depth(scene, options), depth_words,
       check_max_depth(scene, options) == 0
           ? ",\n# which is direct lighting here: light reaches the eye after at most one bounce, off the only reflector"
           : "",
@@ -179,7 +188,7 @@ std::string header(const Scene& scene, const PbrtV4Options& options) {
           "# - The mirror '{}' (reflectance {}) is a smooth conductor whose Fresnel reflectance is {} at normal\n"
           "#   incidence only; every path meets it there (it is perpendicular to the camera and nothing else\n"
           "#   reflects), so this export is exact.\n",
-          o.name, o.material.albedo, o.material.albedo);
+          comment_text(o.name), o.material.albedo, o.material.albedo);
   return text + "\n";
 }
 
@@ -241,8 +250,8 @@ std::string export_pbrt_v4(const Scene& scene, const PbrtV4Options& options) {
     text += fmt::format("# constant environment\nLightSource \"infinite\" \"float scale\" {}\n",
                         num(scene.environment.radiance));
   for (const PointLight& light : scene.point_lights)
-    text += fmt::format("# {}\nLightSource \"point\" \"float scale\" {} \"point3 from\" [{}]\n", light.name,
-                        num(light.intensity), point(light.position));
+    text += fmt::format("# {}\nLightSource \"point\" \"float scale\" {} \"point3 from\" [{}]\n",
+                        comment_text(light.name), num(light.intensity), point(light.position));
   for (const Object& o : scene.objects) text += object(o);
   return text;
 }
