@@ -259,7 +259,7 @@ int main(int argc, char** argv) {
   auto* e_seed_opt = export_cmd->add_option("--seed", e_seed, "Seed written into the file (default: none, the "
                                             "renderer's own --seed chooses)");
   export_cmd->add_option("--max-depth", e_options.max_segments, "Longest path in segments, the camera's included "
-                         "(a number or 'unlimited'); pass the same to furnace check")
+                         "(a number or 'unlimited'); the file names the matching furnace check --max-depth")
       ->default_str("unlimited")
       ->transform(CLI::Transformer(std::map<std::string, std::string>{
           {"unlimited", std::to_string(exporter::kUnlimitedPathSegments)}}))
