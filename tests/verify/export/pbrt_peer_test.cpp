@@ -223,8 +223,8 @@ class PbrtPeer {
 
 // Scenes whose K renders alone would overrun the peer label's budget (10
 // minutes on 2 cores): enclosure_box_rho99's paths average 100 bounces, and
-// its 16 renders of 256 spp took 330 CPU-s (the rest of the label together
-// about 300). They run in pbrt_peer_slow_tests (label slow) instead, built
+// its 16 renders of 256 spp took 308-330 CPU-s (the rest of the label
+// together 183). They run in pbrt_peer_slow_tests (label slow) instead, built
 // from this file with FURNACE_PEER_COSTLY_SCENES=1.
 const std::set<std::string> kCostlyScenes = {"enclosure_box_rho99"};
 
