@@ -21,6 +21,7 @@
 #include "verify/analytic_query.h"
 #include "verify/check.h"
 #include "verify/check_command.h"
+#include "verify/export/pbrt_v4.h"
 #include "verify/harness.h"
 #include "verify/report.h"
 #include "verify/statistics.h"
@@ -312,6 +313,20 @@ int main(int argc, char** argv) {
       "stderr); INCONCLUSIVE (exit 3) when nothing rejects but the test lacks that power (the report says how many "
       "images or samples would give it).");
 
+  std::string e_scene, e_format, e_output;
+  exporter::PbrtV4Options e_options;
+  uint64_t e_seed = 0;
+  auto* export_cmd = app.add_subcommand("export", "Write a scene in another renderer's format (refused, exit 2, "
+                                        "when that format cannot express it exactly)");
+  export_cmd->add_option("--scene", e_scene, "Scene file (JSON)")->required();
+  export_cmd->add_option("--format", e_format, "Target format")->required()->check(CLI::IsMember({"pbrt-v4"}));
+  export_cmd->add_option("--spp", e_options.spp, "Samples per pixel")->capture_default_str()->check(CLI::Range(1, 1 << 24));
+  auto* e_seed_opt = export_cmd->add_option("--seed", e_seed, "Seed written into the file (default: none, the "
+                                            "renderer's own --seed chooses)");
+  add_max_depth_option(export_cmd, e_options.max_segments, "Longest path in segments, the camera's included, or "
+                       "'unlimited' (default unlimited); the file names the matching furnace check --max-depth");
+  export_cmd->add_option("--output,-o", e_output, "Output file")->required();
+
   std::vector<std::string> s_strategies;
   int s_seeds = 50, s_spp = 1024, s_threads = 0;
   double s_alpha = 0.05;
@@ -344,6 +359,14 @@ int main(int argc, char** argv) {
     if (*check_cmd) {
       if (c_depth->count() > 0) c_options.max_depth = c_max_depth;
       return verify::run_check(c_options);
+    }
+    if (*export_cmd) {
+      const Scene scene = load_scene(e_scene);
+      if (*e_seed_opt) e_options.seed = e_seed;
+      e_options.image_filename = std::filesystem::path(e_output).stem().string() + ".exr";
+      exporter::write_pbrt_v4(scene, e_options, e_output);
+      fmt::print("exported {} ({}) for {} -> {}\n", scene.name, scene.source, e_format, e_output);
+      return 0;
     }
     if (*sweep_cmd) return run_sweep(s_strategies, s_seeds, s_spp, s_alpha, s_threads);
     if (*report_cmd) {

@@ -1,0 +1,319 @@
+// The pbrt-v4 peer test: pbrt renders every built-in scene the exporter can
+// express, K times with distinct seeds, and `furnace check` must pass each
+// (exit 0); deliberately wrong exports rendered the same way must fail it
+// (exit 1), proving the check can tell. The scenes too costly for the peer
+// label's budget are tested by a second build of this file (label slow).
+// Needs FURNACE_PBRT to name a pbrt-v4 binary; without it every test reports
+// "skipped: no pbrt-v4 (set FURNACE_PBRT)" and none fails.
+//
+// Each test prints one line: scene, K, spp, check's exit code, the worst
+// per-pixel |t| and the image-mean t, the image-mean bias the check detects
+// (from its output), and the test's wall time.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <functional>
+#include <regex>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "core/scene.h"
+#include "verify/export/pbrt_v4.h"
+
+namespace furnace::exporter {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Renders per scene and samples per pixel: with them the image-mean bias the
+// check detects stays at or below 0.5 % on every built-in scene (measured;
+// the check reports it), well inside the 1 % the check requires for a verdict.
+constexpr int kRenders = 16;
+constexpr int kSpp = 256;
+// Seeds kFirstSeed, kFirstSeed + 1, ...: pbrt's independent sampler draws
+// from (pixel, seed) alone, so distinct seeds make independent renders.
+constexpr int kFirstSeed = 1;
+// Every correct export traces unlimited depth; check compares with the
+// reference check_max_depth() names: furnace's unlimited-depth global
+// illumination (--max-depth unlimited), or direct lighting (2 segments) where
+// light reaches the eye after at most one bounce and the two agree.
+constexpr int kPbrtThreads = 2;
+
+std::optional<fs::path> pbrt_binary() {
+  const char* path = std::getenv("FURNACE_PBRT");
+  if (!path || !*path) return std::nullopt;
+  return fs::path(path);
+}
+
+struct CommandResult {
+  int exit_code;
+  std::string output;  // stdout and stderr
+};
+
+CommandResult run(const std::string& command) {
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return {-1, "popen failed: " + command};
+  std::string out;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+
+// The gray value (mean of R, G and B) of a float RGB EXR, row-major.
+std::vector<double> read_gray(const fs::path& path, int* width = nullptr, int* height = nullptr) {
+  Imf::InputFile file(path.c_str());
+  const Imath::Box2i dw = file.header().dataWindow();
+  const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+  const size_t n = size_t(w) * h;
+  std::vector<float> planes[3] = {std::vector<float>(n), std::vector<float>(n), std::vector<float>(n)};
+  Imf::FrameBuffer frame;
+  const char* names[3] = {"R", "G", "B"};
+  for (int c = 0; c < 3; ++c) {
+    char* base = reinterpret_cast<char*>(planes[c].data()) - (ptrdiff_t(dw.min.x) + ptrdiff_t(dw.min.y) * w) * 4;
+    frame.insert(names[c], Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * size_t(w)));
+  }
+  file.setFrameBuffer(frame);
+  file.readPixels(dw.min.y, dw.max.y);
+  std::vector<double> gray(n);
+  for (size_t i = 0; i < n; ++i) gray[i] = (double(planes[0][i]) + planes[1][i] + planes[2][i]) / 3;
+  if (width) *width = w;
+  if (height) *height = h;
+  return gray;
+}
+
+// Rewrites a float RGB EXR mirrored left to right (R = G = B = its gray value).
+void flip_horizontally(const fs::path& path) {
+  int w = 0, h = 0;
+  const std::vector<double> gray = read_gray(path, &w, &h);
+  std::vector<float> flipped(gray.size());
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) flipped[size_t(y) * w + x] = float(gray[size_t(y) * w + (w - 1 - x)]);
+  Imf::Header header(w, h);
+  Imf::FrameBuffer frame;
+  for (const char* name : {"R", "G", "B"}) {
+    header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    frame.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(flipped.data()), sizeof(float),
+                                  sizeof(float) * size_t(w)));
+  }
+  Imf::OutputFile out(path.c_str(), header);
+  out.setFrameBuffer(frame);
+  out.writePixels(h);
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// The numbers of check's JSON report the peer line prints: the largest |t|
+// over the pixels, the image-mean t and the detectable relative bias.
+struct Diagnostics {
+  double worst_pixel_t = NAN;
+  double image_mean_t = NAN;
+  double detectable_relative_bias = NAN;
+};
+
+Diagnostics diagnostics(const std::string& check_json) {
+  Diagnostics d;
+  const nlohmann::json j = nlohmann::json::parse(check_json, nullptr, false);
+  if (j.is_discarded() || !j.contains("channels")) return d;
+  auto number = [](const nlohmann::json& v) { return v.is_number() ? v.get<double>() : NAN; };
+  if (!j["worst_pixels"].empty()) d.worst_pixel_t = std::fabs(number(j["worst_pixels"][0]["t"]));
+  if (!j["channels"].empty()) d.image_mean_t = number(j["channels"][0]["statistic"]);
+  d.detectable_relative_bias = number(j["detectable_relative_bias"]);
+  return d;
+}
+
+class PbrtPeer {
+ protected:
+  // Exports `scene_for_export`, renders it K times, checks the images
+  // against `scene_file` at the depth a correct export of it needs, and
+  // returns check's exit code; `flip` mirrors every image first.
+  int render_and_check(const std::string& label, const fs::path& scene_file, const Scene& scene_for_export,
+                       const PbrtV4Options& options, bool flip) {
+    const Scene scene = load_scene(scene_file);
+    PbrtV4Options correct;
+    correct.spp = options.spp;
+    const int check_depth = check_max_depth(scene, correct);
+    const auto start = std::chrono::steady_clock::now();
+    const fs::path pbrt_file = dir_ / "scene.pbrt";
+    write_pbrt_v4(scene_for_export, options, pbrt_file);
+    std::vector<fs::path> images;
+    std::string image_args;
+    for (int i = 0; i < kRenders; ++i) {
+      const fs::path image = dir_ / fmt::format("render_{}.exr", i);
+      const CommandResult r = run(fmt::format("{} --quiet --nthreads {} --seed {} --outfile {} {}", quoted(*pbrt_),
+                                              kPbrtThreads, kFirstSeed + i, quoted(image), quoted(pbrt_file)));
+      if (r.exit_code != 0) {
+        ADD_FAILURE() << "pbrt failed (exit " << r.exit_code << ") on " << pbrt_file << ":\n" << r.output;
+        return -1;
+      }
+      if (flip) flip_horizontally(image);
+      images.push_back(image);
+      image_args += " --image " + quoted(image);
+    }
+    const fs::path json_file = dir_ / "check.json";
+    const CommandResult check = run(fmt::format("{} check --scene {} --max-depth {} --json {}{}", FURNACE_CLI,
+                                                quoted(scene_file), depth_name(check_depth), quoted(json_file),
+                                                image_args));
+    const Diagnostics d = diagnostics(read_text(json_file));
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("%s", check.output.c_str());
+    std::printf("peer: %s K=%d spp=%d check --max-depth %s exit %d, worst pixel |t| %.2f, image-mean t %.2f, detectable bias %.3g%%, "
+                "wall %.1f s\n",
+                label.c_str(), kRenders, options.spp, depth_name(check_depth).c_str(), check.exit_code, d.worst_pixel_t,
+                d.image_mean_t, 100 * d.detectable_relative_bias, seconds);
+    return check.exit_code;
+  }
+
+  bool set_up(const std::string& name) {
+    pbrt_ = pbrt_binary();
+    if (!pbrt_) return false;
+    dir_ = fs::temp_directory_path() / fmt::format("furnace_pbrt_peer_{}_{}", ::getpid(), name);
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    return true;
+  }
+  void tear_down(bool passed) {
+    if (dir_.empty()) return;
+    if (passed) fs::remove_all(dir_);
+    else std::printf("renders kept in %s\n", dir_.c_str());
+  }
+
+  std::optional<fs::path> pbrt_;
+  fs::path dir_;
+};
+
+// Scenes whose K renders alone would overrun the peer label's budget (10
+// minutes on 2 cores): enclosure_box_rho99's paths average 100 bounces, and
+// its 16 renders of 256 spp took 308-330 CPU-s (the rest of the label
+// together 183). They run in pbrt_peer_slow_tests (label slow) instead, built
+// from this file with FURNACE_PEER_COSTLY_SCENES=1.
+const std::set<std::string> kCostlyScenes = {"enclosure_box_rho99"};
+
+// The exportable built-in scenes of this binary: the costly ones or the rest.
+std::vector<std::string> exportable_scenes() {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(FURNACE_SCENE_DIR)) {
+    const std::string name = entry.path().stem().string();
+    if (entry.path().extension() != ".json" || (kCostlyScenes.count(name) > 0) != bool(FURNACE_PEER_COSTLY_SCENES))
+      continue;
+    if (!pbrt_v4_refusal(load_scene(entry.path()))) names.push_back(name);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::string camel_case(const std::string& snake) {
+  std::string out;
+  bool upper = true;
+  for (char c : snake) {
+    if (c == '_') {
+      upper = true;
+      continue;
+    }
+    out += upper ? char(std::toupper(static_cast<unsigned char>(c))) : c;
+    upper = false;
+  }
+  return out;
+}
+
+fs::path scene_file(const std::string& name) { return fs::path(FURNACE_SCENE_DIR) / (name + ".json"); }
+
+class PbrtPeerScene : public PbrtPeer, public testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override {
+    if (!set_up(camel_case(GetParam()))) GTEST_SKIP() << "skipped: no pbrt-v4 (set FURNACE_PBRT)";
+  }
+  void TearDown() override { tear_down(!HasFailure()); }
+};
+
+TEST_P(PbrtPeerScene, PassesFurnaceCheck) {
+  const fs::path file = scene_file(GetParam());
+  PbrtV4Options options;
+  options.spp = kSpp;
+  EXPECT_EQ(render_and_check(GetParam(), file, load_scene(file), options, false), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(BuiltIn, PbrtPeerScene, testing::ValuesIn(exportable_scenes()),
+                         [](const testing::TestParamInfo<std::string>& info) { return camel_case(info.param); });
+
+#if !FURNACE_PEER_COSTLY_SCENES
+// A deliberately wrong export: the scene as exported is altered, or the
+// renders are, while the check compares with the unaltered scene.
+struct Control {
+  std::string name;
+  std::string scene;
+  std::function<void(Scene&, PbrtV4Options&)> break_export;
+  bool mirror_images = false;
+};
+
+void PrintTo(const Control& c, std::ostream* os) { *os << c.name << " (" << c.scene << ")"; }
+
+Object& named(Scene& scene, const std::string& name) {
+  for (Object& o : scene.objects)
+    if (o.name == name) return o;
+  throw std::runtime_error("no object '" + name + "' in scene '" + scene.name + "'");
+}
+
+std::vector<Control> controls() {
+  return {
+      {"LightRadiancePlusOnePercent", "disk_occluder",
+       [](Scene& s, PbrtV4Options&) { named(s, "light").emitted_radiance *= 1.01; }},
+      {"Albedo049For05", "disk_occluder",
+       [](Scene& s, PbrtV4Options&) { named(s, "receiver").material.albedo = 0.49; }},
+      // polygon_occluder's occluders are asymmetric left to right.
+      {"MirroredImage", "polygon_occluder", [](Scene&, PbrtV4Options&) {}, true},
+      // pbrt's own default maxdepth 5 (6 segments) keeps 1 − 0.5⁶ of the
+      // radiance of an enclosure of albedo 0.5: 1.6 % too dark.
+      {"EnclosureMaxDepthTooSmall", "enclosure_box_rho5",
+       [](Scene&, PbrtV4Options& o) { o.max_segments = 6; }},
+  };
+}
+
+class PbrtPeerControl : public PbrtPeer, public testing::TestWithParam<Control> {
+ protected:
+  void SetUp() override {
+    if (!set_up(GetParam().name)) GTEST_SKIP() << "skipped: no pbrt-v4 (set FURNACE_PBRT)";
+  }
+  void TearDown() override { tear_down(!HasFailure()); }
+};
+
+TEST_P(PbrtPeerControl, FailsFurnaceCheck) {
+  const Control& c = GetParam();
+  const fs::path file = scene_file(c.scene);
+  Scene wrong = load_scene(file);
+  PbrtV4Options options;
+  options.spp = kSpp;
+  c.break_export(wrong, options);
+  EXPECT_EQ(render_and_check(c.name + " (" + c.scene + ")", file, wrong, options, c.mirror_images), 1);
+}
+
+INSTANTIATE_TEST_SUITE_P(Negative, PbrtPeerControl, testing::ValuesIn(controls()),
+                         [](const testing::TestParamInfo<Control>& info) { return info.param.name; });
+#endif
+
+}  // namespace
+}  // namespace furnace::exporter
