@@ -12,6 +12,7 @@
 #include "analytic/global.h"
 #include "analytic/reference.h"
 #include "core/error.h"
+#include "verify/pixel_tests.h"
 #include "verify/statistics.h"
 
 namespace furnace::verify {
@@ -94,7 +95,7 @@ CheckResult check_images(const Scene& scene, const std::vector<ForeignImage>& im
   std::vector<double> detectable;
   double sum_sq = 0;
   std::vector<double> image_means(k, 0.0);
-  double sum_var_of_mean = 0;
+  std::vector<double> pixel_means, variances_of_mean;
   for (size_t i = 0; i < n; ++i) {
     double mean = 0;
     for (const auto& img : images) mean += img.value[i];
@@ -102,12 +103,13 @@ CheckResult check_images(const Scene& scene, const std::vector<ForeignImage>& im
     sum_sq += (mean - reference[i]) * (mean - reference[i]);
     r.image_mean += mean;
     r.reference_mean += reference[i];
+    pixel_means.push_back(mean);
     for (size_t j = 0; j < k; ++j) image_means[j] += images[j].value[i];
     stats::MeanTestResult t;
     if (use_furnace_variance) {
       const double count = images[0].count[i];
       t = stats::mean_test(uint64_t(count), mean, images[0].variance[i], reference[i], alpha_each);
-      sum_var_of_mean += count > 0 ? images[0].variance[i] / count : 0.0;
+      variances_of_mean.push_back(count > 0 ? images[0].variance[i] / count : 0.0);
     } else {
       double m2 = 0;
       for (const auto& img : images) m2 += (img.value[i] - mean) * (img.value[i] - mean);
@@ -121,8 +123,8 @@ CheckResult check_images(const Scene& scene, const std::vector<ForeignImage>& im
   r.relative_rmse = std::sqrt(sum_sq / double(n)) / (r.reference_mean > 0 ? r.reference_mean : 1.0);
   stats::MeanTestResult image_test;
   if (use_furnace_variance) {
-    const stats::ZTestResult z = stats::z_test(r.image_mean, r.reference_mean, std::sqrt(sum_var_of_mean) / double(n),
-                                               alpha_each);
+    const stats::ZTestResult z =
+        stats::image_mean_test(pixel_means, variances_of_mean, reference, alpha_each, false).test;
     r.statistic = z.statistic;
     r.threshold = z.threshold;
     r.detectable_relative_bias = z.detectable_relative_bias;
