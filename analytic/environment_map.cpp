@@ -5,7 +5,7 @@
 #include <vector>
 
 
-#include "analytic/adaptive_quadrature.h"
+#include "core/adaptive_quadrature.h"
 #include "core/error.h"
 
 namespace furnace::analytic {

@@ -14,10 +14,10 @@
 #include "analytic/light_moments.h"
 #include "analytic/planar_light.h"
 #include "analytic/environment.h"
-#include "analytic/adaptive_quadrature.h"
 #include "analytic/polygon_patch.h"
 #include "analytic/environment_map.h"
 #include "analytic/reference.h"
+#include "core/adaptive_quadrature.h"
 #include "core/error.h"
 
 namespace furnace::analytic {
@@ -205,7 +205,7 @@ constexpr int kMisQuadratureDepth = 15;
 // at `kinks`, where the horizon starts to cut the rings), inner φ over the
 // arcs where cos θ = A + B cos φ + C sin φ > 0 (ring.coefficients); ring.at
 // gives cos θ, p_light and the measure dω/(du dφ) at (u, φ). Gauss–Kronrod
-// (31 points), adaptive (adaptive_quadrature.h: Boost's own recursion never
+// (31 points), adaptive (core/adaptive_quadrature.h: Boost's own recursion never
 // terminates on the tiny intervals of a far sphere's cone), relative
 // tolerance kMisQuadratureTolerance.
 template <class Ring, class Integrand>

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "analytic/adaptive_quadrature.h"
+#include "core/adaptive_quadrature.h"
 #include "core/error.h"
 #include "core/vec3.h"
 
@@ -19,7 +19,7 @@ namespace furnace::analytic {
 // x(s, t) = a0 + s·a1 + t·(b0 + s·b1), |∂x/∂s × ∂x/∂t| = j0 + s·j1; for fixed s,
 // n·x is linear in t, so the lit t-interval is exact, and s is split where the
 // horizon crosses the edges t = 0 and t = 1. Both levels: Gauss–Kronrod to
-// `rel_tolerance` (adaptive_quadrature.h), at most `depth` bisections.
+// `rel_tolerance` (core/adaptive_quadrature.h), at most `depth` bisections.
 template <class F>
 double polygon_patch_integral(const std::vector<Vec3>& v, const Vec3& n, double rel_tolerance, int depth, F f) {
   FURNACE_CHECK(v.size() == 3 || v.size() == 4);

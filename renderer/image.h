@@ -5,21 +5,14 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/running_moments.h"
+
 namespace furnace {
 
 // Per-pixel central moments of the single-sample estimator Y, accumulated in
-// sample order (Welford / Terriberry updates, so the result is independent of
-// threading). Pixel index = py * width + px.
-struct PixelMoments {
-  uint64_t count = 0;
-  double mean = 0;
-  double m2 = 0;  // Σ (y - mean)²
-  double m3 = 0;  // Σ (y - mean)³
-  double m4 = 0;  // Σ (y - mean)⁴
-  void add(double y);
-  // Unbiased sample variance s² = m2 / (n - 1); 0 when n < 2.
-  double sample_variance() const { return count > 1 ? m2 / double(count - 1) : 0.0; }
-};
+// sample order (so the result is independent of threading): the one
+// accumulator of core/running_moments.h. Pixel index = py * width + px.
+using PixelMoments = RunningMoments;
 
 struct Image {
   int width = 0, height = 0;

@@ -30,22 +30,6 @@ constexpr size_t kPixelGrain = 1;
 
 }  // namespace
 
-void PixelMoments::add(double y) {
-  // Terriberry's one-pass update of the central moment sums (exact algebra,
-  // M4 and M3 first since they use the old M2, M3).
-  const double n1 = double(count);
-  ++count;
-  const double n = double(count);
-  const double delta = y - mean;
-  const double delta_n = delta / n;
-  const double delta_n2 = delta_n * delta_n;
-  const double term1 = delta * delta_n * n1;
-  mean += delta_n;
-  m4 += term1 * delta_n2 * (n * n - 3 * n + 3) + 6 * delta_n2 * m2 - 4 * delta_n * m3;
-  m3 += term1 * delta_n * (n - 2) - 3 * delta_n * m2;
-  m2 += term1;
-}
-
 Image render(const Scene& scene, const RenderOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   if (options.spp < 1) throw Error(fmt::format("render option spp must be at least 1, got {}.", options.spp));

@@ -3,74 +3,30 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <queue>
 #include <sstream>
 #include <stdexcept>
 
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/non_central_chi_squared.hpp>
-#include <boost/math/quadrature/gauss_kronrod.hpp>
+
+#include "core/adaptive_quadrature.h"
 
 namespace furnace::stats {
 namespace {
 
 constexpr double kTwoPi = 2 * kPi;
-using Kronrod = boost::math::quadrature::gauss_kronrod<double, 15>;
-
-// ∫_a^b f by globally adaptive Gauss–Kronrod: Boost's 15-point rule (one
-// application, its Gauss–Kronrod error estimate) on each of
-// kQuadratureInitialPieces equal pieces to start with; then the piece with
-// the largest error is bisected until the summed error is below
-// rel_tol·|integral| or kQuadratureMaxPieces pieces exist. Boost 1.74's own
-// recursive mode is not used: it compares an error estimate of the piece
-// rescaled to [−1, 1] with a tolerance on the unscaled integral that halves
-// at every level, so around a jump, and on any tiny interval (a cone of
-// θmax = 1e-6 spans t ∈ [0, 5e-13]), it bisects everything to full depth.
-template <class F>
-double integrate_adaptive(const F& f, double a, double b, double rel_tol) {
-  struct Piece {
-    double a, b, value, error;
-    bool operator<(const Piece& o) const { return error < o.error; }
-  };
-  const auto rule = [&](double lo, double hi) {
-    const double mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
-    double error = 0;
-    // On [−1, 1] the value and error estimate are in the same scale whatever Boost does internally.
-    const double value = Kronrod::integrate([&](double x) { return f(mid + half * x); }, -1.0, 1.0, 0, 0.0, &error);
-    return Piece{lo, hi, value * half, error * half};
-  };
-  std::priority_queue<Piece> pieces;
-  double value = 0, error = 0;
-  for (int i = 0; i < kQuadratureInitialPieces; ++i) {
-    const Piece p = rule(a + (b - a) * i / kQuadratureInitialPieces,
-                         i + 1 == kQuadratureInitialPieces ? b : a + (b - a) * (i + 1) / kQuadratureInitialPieces);
-    value += p.value;
-    error += p.error;
-    pieces.push(p);
-  }
-  while (error > rel_tol * std::fabs(value) && pieces.size() < kQuadratureMaxPieces) {
-    const Piece worst = pieces.top();
-    pieces.pop();
-    const double mid = 0.5 * (worst.a + worst.b);
-    if (!(mid > worst.a && mid < worst.b)) break;  // the piece cannot be split further in double
-    const Piece left = rule(worst.a, mid), right = rule(mid, worst.b);
-    value += left.value + right.value - worst.value;
-    error += left.error + right.error - worst.error;
-    pieces.push(left);
-    pieces.push(right);
-  }
-  double sum = 0;  // re-sum: the running value accumulated cancellation
-  for (; !pieces.empty(); pieces.pop()) sum += pieces.top().value;
-  return sum;
-}
 
 // ∫_{a0}^{a1} ∫_{b0}^{b1} f(a, b) db da, inner integral over b.
 template <class F>
 double integrate_2d(const F& f, double a0, double a1, double b0, double b1) {
   const auto inner = [&](double a) {
-    return integrate_adaptive([&](double b) { return f(a, b); }, b0, b1, kQuadratureInnerRelTolerance);
+    return adaptive_gauss_kronrod_relative<kQuadraturePoints>([&](double b) { return f(a, b); }, b0, b1,
+                                                              kQuadratureInnerRelTolerance, kQuadratureMaxDepth,
+                                                              kQuadratureInitialPieces, kQuadratureMaxBisections);
   };
-  return integrate_adaptive(inner, a0, a1, kQuadratureRelTolerance);
+  return adaptive_gauss_kronrod_relative<kQuadraturePoints>(inner, a0, a1, kQuadratureRelTolerance,
+                                                            kQuadratureMaxDepth, kQuadratureInitialPieces,
+                                                            kQuadratureMaxBisections);
 }
 
 // Cell of a direction on a spherical grid; −1 if not a finite unit vector or outside.

@@ -53,18 +53,28 @@ inline constexpr double kUnitLengthTolerance = 1e-9;
 // last row instead of failing it as "outside the grid".
 inline constexpr double kGridRimSlack = 1e-9;
 
-// Quadrature of the expected counts: nested, globally adaptive 15-point
-// Gauss–Kronrod (Boost's rule). An error δE in an expected count E matters
-// only against its Poisson noise √E (≥ 2 for E ≥ 5), so a relative tolerance
-// of 1e-8 per cell is ample. The inner integral must be far more accurate
-// than the outer tolerance, or the outer bisection chases the inner one's
-// noise: smooth inner integrands reach 1e-11 with one or two rule
-// applications; where a pdf jumps inside a cell (a disk's rim across a square
-// cell) each bisection halves the error, so 1e-11 takes ~40 bisections, well
-// within the piece budget.
+// Quadrature of the expected counts: nested adaptive Gauss–Kronrod
+// (core/adaptive_quadrature.h) on Boost's 15-point rule. An error δE in an
+// expected count E matters only against its Poisson noise √E (≥ 2 for
+// E ≥ 5), so a relative tolerance of 1e-8 per cell is ample. The inner
+// integral must be far more accurate than the outer tolerance, or the outer
+// bisection chases the inner one's noise: smooth inner integrands reach 1e-11
+// with one or two rule applications; where a pdf jumps inside a cell (a
+// disk's rim across a square cell) each bisection halves the error, so the
+// piece holding the jump is bisected down to kQuadratureMaxDepth.
 inline constexpr double kQuadratureRelTolerance = 1e-8;        // outer integral
 inline constexpr double kQuadratureInnerRelTolerance = 1e-11;  // inner integral
-inline constexpr size_t kQuadratureMaxPieces = 400;            // per integral: caps the cost of a pathological pdf
+inline constexpr unsigned kQuadraturePoints = 15;
+// A jump left in a piece of 2^−40 ≈ 9e-13 of a quarter cell errs by less
+// than the inner tolerance; each jump costs 2·40 rule applications.
+inline constexpr int kQuadratureMaxDepth = 40;
+// Per integral: caps the cost of a pathological pdf (a support test
+// flickering with round-off along a rim that lies inside a cell) at 800
+// pieces, room for 10 jumps at full depth. Measured on the spherical
+// triangle tests, whose cells the hypotenuse cuts: at 400 the pdf integrals
+// agree with Ω_true/Ω_claimed to ≤ 3.7e-7 (the tests allow 1e-6); 800 gives
+// ≤ 2.6e-7 in twice the time, 200 gives ≤ 5e-7.
+inline constexpr size_t kQuadratureMaxBisections = 400;
 // No error estimate sees a feature that falls between all nodes (a sliver of
 // the support in a cell corner); starting from 4 pieces puts nodes ≤ ~5 % of
 // a cell apart. Grids whose cell edges follow the support's boundary avoid

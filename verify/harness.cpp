@@ -12,32 +12,18 @@
 #include "analytic/moments.h"
 #include "analytic/reference.h"
 #include "core/error.h"
+#include "verify/pixel_tests.h"
 #include "verify/statistics.h"
 
 namespace furnace::verify {
 
 std::string scene_dir() { return FURNACE_SCENE_DIR; }
 
+
 // Relative round-off of E[Y²] − E² (each a short sum of double products):
 // a predicted variance below this fraction of E² is taken as exactly 0.
 constexpr double kPredictedVarianceRoundOff = 64 * std::numeric_limits<double>::epsilon();
 
-// Hall's skewness-removing transformation of the studentised mean (Hall
-// 1992, "On the removal of skewness by transformation", JRSS B 54:221–228):
-// with T = (ȳ − μ)/s and the sample skewness γ, the statistic
-//   √N·(T + γT²/3 + γ²T³/27 + γ/(6N))
-// is monotone in T and normal to O(1/N) instead of O(1/√N). Rendering
-// estimators are skewed (rare hits on small lights or blockers), and the
-// plain t overstates the far tails the Šidák level reaches: simulated on
-// Bernoulli(0.03) samples at N = 1024, the plain t rejected 1.2e-3 at
-// nominal 1e-4, the transformed statistic 2e-5 (and 6e-5 vs 2.5e-4 at p = 0.1).
-double hall_statistic(const PixelMoments& m, double reference) {
-  const double n = double(m.count);
-  const double s = std::sqrt(m.sample_variance());
-  const double skewness = (m.m3 / n) / std::pow(m.m2 / n, 1.5);
-  const double t = (m.mean - reference) / s;
-  return std::sqrt(n) * (t + skewness * t * t / 3 + skewness * skewness * t * t * t / 27 + skewness / (6 * n));
-}
 
 std::vector<double> reference_for(const Scene& scene, const RenderOptions& options) {
   if (is_path_tracer(options.strategy)) return analytic::global_reference_image(scene, options.max_depth);
@@ -148,66 +134,30 @@ Verdict run_case(const Case& c, double per_case_alpha) {
   // variance is modelled) share this case's α (Šidák).
   const size_t n_tests = reference.size() + 1 + (v.variance_tested ? 1 : 0);
   const double alpha_each = stats::sidak_alpha(per_case_alpha, n_tests);
-  double sum_s2 = 0, sum_sigma2 = 0, sum_var_s2 = 0;
+  const bool zero_variance_case = stats::zero_variance_image(image.pixels);
 
-  double sum_estimate = 0, sum_reference = 0, sum_variance_of_mean = 0, sum_sq_error = 0;
-  std::vector<double> pixel_detectable;
-  // A spread within float round-off of the mean (estimates that differ only
-  // in their last bits, e.g. the white furnace's exact 1) is zero variance.
-  auto round_off_only = [](const PixelMoments& m) {
-    return std::sqrt(m.sample_variance()) <= stats::kZeroVarianceRelTolerance * std::fabs(m.mean);
-  };
-  // A zero-variance case (every pixel constant: exact sampling) must match
-  // its reference exactly everywhere.
-  bool zero_variance_case = true;
-  for (const PixelMoments& m : image.pixels) zero_variance_case = zero_variance_case && round_off_only(m);
+  // Every pixel's variance test, for the aggregate and the outlier count.
+  std::vector<stats::VarianceTestResult> pixel_variance_tests;
+  if (v.variance_tested)
+    for (size_t i = 0; i < reference.size(); ++i)
+      pixel_variance_tests.push_back(stats::variance_test(image.pixels[i], predicted_variance[i], alpha_each));
 
+  std::vector<double> pixel_means, variances_of_mean, pixel_detectable;
+  double sum_sq_error = 0;
   for (size_t i = 0; i < reference.size(); ++i) {
     const PixelMoments& m = image.pixels[i];
-    const double variance = m.sample_variance();
-    const bool constant = round_off_only(m);
-    sum_estimate += m.mean;
-    sum_reference += reference[i];
-    sum_variance_of_mean += variance / double(m.count);
+    pixel_means.push_back(m.mean);
+    variances_of_mean.push_back(m.sample_variance() / double(m.count));
     sum_sq_error += (m.mean - reference[i]) * (m.mean - reference[i]);
-    // The aggregate variance test takes every pixel: selecting pixels by
-    // their sample moments (the skewness rule below) would bias Σ s².
-    stats::VarianceTestResult vt;
-    if (v.variance_tested) {
-      vt = stats::variance_test(stats::moment_sums(m), predicted_variance[i], alpha_each);
-      sum_s2 += vt.sample_variance;
-      sum_sigma2 += vt.predicted_variance;
-      sum_var_s2 += vt.standard_error * vt.standard_error;
-    }
-    // Validity of the pixel's tests. Sample skewness G1 = (m3/n)/(m2/n)^1.5.
-    if (!constant) {
-      const double n = double(m.count);
-      const double skewness = (m.m3 / n) / std::pow(m.m2 / n, 1.5);
-      if (n < kCochranSkewnessFactor * skewness * skewness) {
-        ++v.pixels_untested;
-        continue;
-      }
-    }
-    stats::MeanTestResult t =
-        stats::mean_test(m.count, m.mean, constant ? 0.0 : variance, reference[i], alpha_each);
-    if (!constant) {
-      t.statistic = hall_statistic(m, reference[i]);
-      t.pass = std::fabs(t.statistic) <= t.threshold;
-    }
-    // Constant samples that miss the reference in a case that is not
-    // zero-variance: a rare outcome (a blocker hit with p ≪ 1/N) simply never
-    // occurred. Its skewness is unbounded, so like a skewed pixel it is
-    // untested here and left to the image-mean test.
-    if (constant && !t.pass && !zero_variance_case) {
+    const stats::PixelTestResult pixel = stats::pixel_mean_test(m, reference[i], alpha_each, zero_variance_case);
+    if (!pixel.tested()) {
       ++v.pixels_untested;
       continue;
     }
-    // Per-pixel variance tests are reported, not part of the verdict: the
-    // fourth-moment standard error of one pixel's s² is anti-conservative for
-    // skewed estimators at the spp of a verification run (the false-alarm
-    // sweep measured 3/10 rejections at 256 spp where α = 0.05 allowed 0.5).
-    // The aggregate over all pixels, which is close to normal, decides.
-    if (v.variance_tested && !vt.pass) ++v.variance_pixel_failures;
+    const stats::MeanTestResult& t = pixel.test;
+    // Per-pixel variance outliers are reported, not part of the verdict
+    // (stats::aggregate_variance_test says why).
+    if (v.variance_tested && !pixel_variance_tests[i].pass) ++v.variance_pixel_failures;
     if (!t.pass) ++v.pixel_failures;
     const double badness = (!t.pass && t.zero_variance) ? HUGE_VAL : std::fabs(t.statistic);
     if (badness > v.worst_pixel_t || i == 0) {
@@ -216,45 +166,31 @@ Verdict run_case(const Case& c, double per_case_alpha) {
       v.worst_py = int(i / size_t(image.width));
       v.worst_pixel_mean = m.mean;
       v.worst_pixel_reference = reference[i];
-      v.worst_pixel_sample_variance = variance;
+      v.worst_pixel_sample_variance = m.sample_variance();
     }
     if (reference[i] > 0 && std::isfinite(t.detectable_relative_bias))
       pixel_detectable.push_back(t.detectable_relative_bias);
   }
-  const double p = double(reference.size());
-  v.image_mean = sum_estimate / p;
-  v.reference_mean = sum_reference / p;
-  v.rmse = std::sqrt(sum_sq_error / p);
-  const double image_se = std::sqrt(sum_variance_of_mean) / p;
-  // A zero-variance case's standard error is round-off: it must match exactly.
-  const stats::ZTestResult zt =
-      stats::z_test(v.image_mean, v.reference_mean, zero_variance_case ? 0.0 : image_se, alpha_each);
-  v.z = zt.statistic;
-  v.threshold = zt.threshold;
-  v.detectable_rel_bias = zt.detectable_relative_bias;
+  const stats::ImageMeanTestResult image_test =
+      stats::image_mean_test(pixel_means, variances_of_mean, reference, alpha_each, zero_variance_case);
+  v.image_mean = image_test.image_mean;
+  v.reference_mean = image_test.reference_mean;
+  v.rmse = std::sqrt(sum_sq_error / double(reference.size()));
+  v.z = image_test.test.statistic;
+  v.threshold = image_test.test.threshold;
+  v.detectable_rel_bias = image_test.test.detectable_relative_bias;
   v.median_pixel_detectable_rel_bias = stats::median(std::move(pixel_detectable));
   bool variance_pass = true;
   if (v.variance_tested) {
-    const stats::ZTestResult vz = stats::z_test(sum_s2, sum_sigma2, std::sqrt(sum_var_s2), alpha_each);
-    v.measured_variance = sum_s2 / p;
-    v.predicted_variance = sum_sigma2 / p;
-    v.variance_z = vz.statistic;
-    v.variance_detectable_rel_error = vz.detectable_relative_bias;
-    variance_pass = vz.pass;
-    if (zero_variance_case) {
-      // Every pixel constant within round-off (s ≤ kZeroVarianceRelTolerance·|mean|):
-      // the sample variances are round-off, so their z means nothing. The model
-      // must predict a standard deviation within the same tolerance (exact
-      // sampling, or a far light's cone where cos θ is constant to 1e-12),
-      // else the estimator is constant where it should vary.
-      v.variance_z = 0;
-      double sum_reference_squared = 0;
-      for (double r : reference) sum_reference_squared += r * r;
-      variance_pass = sum_sigma2 <= stats::kZeroVarianceRelTolerance * stats::kZeroVarianceRelTolerance *
-                                        sum_reference_squared;
-    }
+    const stats::AggregateVarianceTestResult aggregate =
+        stats::aggregate_variance_test(pixel_variance_tests, reference, alpha_each, zero_variance_case);
+    v.measured_variance = aggregate.sum_sample_variance / double(reference.size());
+    v.predicted_variance = aggregate.sum_predicted_variance / double(reference.size());
+    v.variance_z = aggregate.statistic;
+    v.variance_detectable_rel_error = aggregate.detectable_relative_error;
+    variance_pass = aggregate.pass;
   }
-  v.pass = zt.pass && v.pixel_failures == 0 && v.nonfinite_samples == 0 && variance_pass;
+  v.pass = image_test.test.pass && v.pixel_failures == 0 && v.nonfinite_samples == 0 && variance_pass;
   return v;
 }
 

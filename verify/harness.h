@@ -21,18 +21,14 @@ inline constexpr double kDefaultFamilyAlpha = 0.01;
 inline constexpr double kReportedPower = 0.9;
 
 // Each pixel's mean is tested with Hall's skewness-corrected t statistic
-// (harness.cpp, hall_statistic) against Student's t quantile.
-// A pixel's t-test is only valid when its sample mean is close to normal.
-// For skewed estimators (a hemisphere sample that rarely hits a small light is
-// nearly Bernoulli with small p, skewness ≈ 1/√p) the normal approximation
-// needs N ≥ 25·G1² (Cochran 1977, "Sampling Techniques", §2.15; Boos & Hughes-
-// Oliver 2000). Pixels below that are not t-tested but counted and reported as
-// `px untested`; they still enter the image-mean test, whose mean over all
-// pixels is close to normal. A pixel whose samples are all equal (s = 0) must
-// match its reference exactly; if it does not, it is skipped the same way
-// unless every pixel of the case is constant (a zero-variance estimator,
-// which must be exact everywhere).
-inline constexpr double kCochranSkewnessFactor = 25.0;
+// against Student's t quantile (stats::pixel_mean_test, verify/pixel_tests.h).
+// A pixel's test is only valid when its sample mean is close to normal:
+// pixels that fail Cochran's rule (N ≥ 25·G1², stats::clt_adequate) are not
+// tested but counted and reported as `px skip`; they still enter the
+// image-mean test, whose mean over all pixels is close to normal. A pixel
+// whose samples are all equal (s = 0) must match its reference exactly; if it
+// does not, it is skipped the same way unless every pixel of the case is
+// constant (a zero-variance estimator, which must be exact everywhere).
 
 struct Case {
   std::string scene_path;
@@ -54,7 +50,7 @@ struct Verdict {
   double detectable_rel_bias = 0;   // smallest relative bias of the image mean found with power kReportedPower
   // Per-pixel tests (each at the Šidák-corrected level).
   int pixel_failures = 0;
-  int pixels_untested = 0;          // too skewed for a valid t-test at this spp (kCochranSkewnessFactor)
+  int pixels_untested = 0;          // not mean-tested: too skewed at this spp, or constant and off (stats::PixelStatus)
   double worst_pixel_t = 0;
   // The pixel with the largest |t| (a failing zero-variance pixel counts as
   // infinite): where to look first when a case fails.

@@ -92,7 +92,7 @@ int run_verify(std::vector<std::string> scenes, std::vector<std::string> strateg
   }
   // Šidák: the cases share the family-wise α equally.
   if (cases.empty()) throw Error("no verification case matches the given --scene and --strategy options.");
-  const double per_case_alpha = -std::expm1(std::log1p(-alpha) / double(cases.size()));
+  const double per_case_alpha = stats::sidak_alpha(alpha, cases.size());
   std::vector<verify::Verdict> verdicts;
   for (const verify::Case& c : cases) verdicts.push_back(verify::run_case(c, per_case_alpha));
   std::fputs(verify::format_table(verdicts, alpha).c_str(), stdout);

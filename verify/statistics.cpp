@@ -19,10 +19,7 @@ void require_level(double p, const char* name) {
   if (!(p > 0 && p < 1)) throw std::invalid_argument(std::string(name) + " must lie in (0, 1), got " + std::to_string(p) + ".");
 }
 
-// Upper quantiles: the x with P(X > x) = q.
-double normal_upper_quantile(double q) {
-  return boost::math::quantile(boost::math::complement(boost::math::normal_distribution<double>(), q));
-}
+// Upper quantile of Student's t: the x with P(T > x) = q.
 double t_upper_quantile(double dof, double q) {
   return boost::math::quantile(boost::math::complement(boost::math::students_t_distribution<double>(dof), q));
 }
@@ -61,6 +58,10 @@ double bonferroni_alpha(double alpha_family, size_t n_tests) {
   require_level(alpha_family, "alpha_family");
   if (n_tests == 0) throw std::invalid_argument("bonferroni_alpha needs at least one test.");
   return alpha_family / double(n_tests);
+}
+
+double normal_upper_quantile(double q) {
+  return boost::math::quantile(boost::math::complement(boost::math::normal_distribution<double>(), q));
 }
 
 MeanTestResult mean_test(uint64_t count, double mean, double sample_variance, double reference, double alpha,
@@ -143,7 +144,16 @@ ZTestResult z_test(double estimate, double reference, double standard_error, dou
   return r;
 }
 
-VarianceTestResult variance_test(const MomentSums& m, double predicted_variance, double alpha, double power) {
+double sample_variance_variance(const RunningMoments& m) {
+  if (m.count < 2) return 0;
+  const double n = double(m.count);
+  const double s2 = m.m2 / (n - 1);
+  const double mu4 = m.m4 / n;
+  const double s4 = s2 * s2;
+  return std::max(0.0, (mu4 - (n - 3) / (n - 1) * s4) / n);  // > 0 whenever m2 > 0 (see header)
+}
+
+VarianceTestResult variance_test(const RunningMoments& m, double predicted_variance, double alpha, double power) {
   require_level(alpha, "alpha");
   require_level(power, "power");
   VarianceTestResult r;
@@ -180,10 +190,7 @@ VarianceTestResult variance_test(const MomentSums& m, double predicted_variance,
     r.message = s.str();
     return r;
   }
-  const double mu4 = m.m4 / n;
-  const double s4 = r.sample_variance * r.sample_variance;
-  const double var_s2 = (mu4 - (n - 3) / (n - 1) * s4) / n;  // > 0 whenever m2 > 0 (see header)
-  r.standard_error = std::sqrt(std::max(0.0, var_s2));
+  r.standard_error = std::sqrt(sample_variance_variance(m));
   r.detectable_relative_error = (r.threshold + z_power) * r.standard_error / predicted_variance;
   if (r.standard_error == 0) {
     // m2 == 0: every sample equal, yet a nonzero variance was predicted.
@@ -202,19 +209,18 @@ VarianceTestResult variance_test(const MomentSums& m, double predicted_variance,
   return r;
 }
 
-double sample_skewness(const MomentSums& m) {
+double sample_skewness(const RunningMoments& m) {
   if (m.count == 0 || !(m.m2 > 0)) return 0;
   const double n = double(m.count);
-  const double variance = m.m2 / n;
-  return (m.m3 / n) / (variance * std::sqrt(variance));
+  return (m.m3 / n) / std::pow(m.m2 / n, 1.5);
 }
 
-bool clt_adequate(const MomentSums& m) {
+bool clt_adequate(const RunningMoments& m) {
   const double g1 = sample_skewness(m);
-  return double(m.count) > kCochranSkewnessFactor * g1 * g1;
+  return !(double(m.count) < kCochranSkewnessFactor * g1 * g1);
 }
 
-MeanTestResult mean_test(const MomentSums& m, double reference, double alpha, double power) {
+MeanTestResult mean_test(const RunningMoments& m, double reference, double alpha, double power) {
   const double variance = m.count > 1 ? m.m2 / double(m.count - 1) : 0.0;
   MeanTestResult r = mean_test(m.count, m.mean, variance, reference, alpha, power);
   r.skewness = sample_skewness(m);

@@ -4,8 +4,8 @@
 // a per-test level α that the caller derives from a family-wise level by the
 // Šidák (or Bonferroni) correction, and reports its power: the smallest bias
 // it detects with probability kDefaultPower (the "minimum detectable effect").
-// Inputs are plain numbers (count, mean, central-moment sums), so this file
-// does not depend on renderer/.
+// Inputs are plain numbers (count, mean) or running central moments
+// (core/running_moments.h), so this file does not depend on renderer/.
 //
 // Models: Subr & Arvo 2007 (hypothesis tests for Monte Carlo estimators),
 // Nori's ttest, Mitsuba's test_renders. Ideas only.
@@ -16,6 +16,8 @@
 #include <functional>
 #include <string>
 #include <vector>
+
+#include "core/running_moments.h"
 
 namespace furnace::stats {
 
@@ -46,6 +48,10 @@ double sidak_alpha(double alpha_family, size_t n_tests);
 // Bonferroni: α/n. Valid without independence; slightly conservative.
 double bonferroni_alpha(double alpha_family, size_t n_tests);
 
+// Upper quantile of the standard normal: the z with P(Z > z) = q, from
+// Boost. A two-sided test at level α compares |z| with normal_upper_quantile(α/2).
+double normal_upper_quantile(double q);
+
 // ---------------------------------------------------------------------------
 // One-sample mean test: is the true mean of an estimator equal to the
 // reference? Student's t with N − 1 degrees of freedom (the z-test for large
@@ -68,7 +74,7 @@ struct MeanTestResult {
   bool zero_variance = false;  // s = 0: exact agreement within kZeroVarianceRelTolerance required
   bool pass = false;
   std::string message;         // one sentence: why it failed, or the zero-variance branch taken
-  // Filled only by the MomentSums overload (below): sample skewness and Cochran's rule.
+  // Filled only by the RunningMoments overload (below): sample skewness and Cochran's rule.
   double skewness = 0;
   bool clt_adequate = true;
 };
@@ -112,19 +118,9 @@ ZTestResult z_test(double estimate, double reference, double standard_error, dou
 // Below this the normal approximation of s² and the plug-in μ4 are poor.
 inline constexpr uint64_t kMinVarianceTestSamples = 100;
 
-// Running central-moment sums, as renderer/render.h's PixelMoments keeps them.
-struct MomentSums {
-  uint64_t count = 0;
-  double mean = 0;
-  double m2 = 0;  // Σ (y − ȳ)²
-  double m4 = 0;  // Σ (y − ȳ)⁴
-  double m3 = 0;  // Σ (y − ȳ)³ (for the skewness check of the mean test)
-};
-// Any type with count, mean, m2, m3, m4 fields (e.g. PixelMoments).
-template <class Moments>
-MomentSums moment_sums(const Moments& m) {
-  return {uint64_t(m.count), double(m.mean), double(m.m2), double(m.m4), double(m.m3)};
-}
+// The estimated Var(s²) above, (m4/N − (N−3)/(N−1)·s⁴)/N, clamped at 0;
+// 0 when N < 2.
+double sample_variance_variance(const RunningMoments& m);
 
 struct VarianceTestResult {
   uint64_t count = 0;
@@ -141,25 +137,28 @@ struct VarianceTestResult {
   bool pass = false;
   std::string message;
 };
-VarianceTestResult variance_test(const MomentSums& m, double predicted_variance, double alpha,
+VarianceTestResult variance_test(const RunningMoments& m, double predicted_variance, double alpha,
                                  double power = kDefaultPower);
 
 // ---------------------------------------------------------------------------
 // Is the t-test's normal approximation of the mean trustworthy? A skewed
 // estimator (rare large values: a small light found by hemisphere sampling)
 // needs many samples before its mean is normal. Cochran's rule (Cochran 1977,
-// Sampling Techniques §2.15): N > 25·G1², G1 the sample skewness.
+// Sampling Techniques §2.15; Boos & Hughes-Oliver 2000): N ≥ 25·G1², G1 the
+// sample skewness. A hemisphere sample that rarely hits a small light is
+// nearly Bernoulli with small p, skewness ≈ 1/√p.
 inline constexpr double kCochranSkewnessFactor = 25;
 
-// Sample skewness G1 = (m3/N)/(m2/N)^{3/2}; 0 when m2 == 0.
-double sample_skewness(const MomentSums& m);
-// N > kCochranSkewnessFactor·G1². A false answer does not fail a test by
-// itself: it says the test's α is approximate, and is reported.
-bool clt_adequate(const MomentSums& m);
+// Sample skewness G1 = (m3/N)/(m2/N)^{3/2}; 0 when m2 == 0 or N == 0.
+double sample_skewness(const RunningMoments& m);
+// N ≥ kCochranSkewnessFactor·G1² (true when G1 is not a number). A false
+// answer does not fail a mean test by itself: it says the test's α is
+// approximate (pixel_tests.h leaves such pixels untested).
+bool clt_adequate(const RunningMoments& m);
 
-// The mean test from moment sums: s² = m2/(N − 1); fills skewness and
+// The mean test from running moments: s² = m2/(N − 1); fills skewness and
 // clt_adequate in the result (message notes a failed check).
-MeanTestResult mean_test(const MomentSums& m, double reference, double alpha, double power = kDefaultPower);
+MeanTestResult mean_test(const RunningMoments& m, double reference, double alpha, double power = kDefaultPower);
 
 // Median of the values (the upper median for an even count); 0 when empty.
 double median(std::vector<double> values);

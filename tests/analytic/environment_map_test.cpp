@@ -16,13 +16,13 @@
 #include <string>
 #include <vector>
 
-#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <boost/math/tools/toms748_solve.hpp>
 #include <gtest/gtest.h>
 
 #include "analytic/environment.h"
 #include "analytic/moments.h"
 #include "analytic/reference.h"
+#include "core/adaptive_quadrature.h"
 #include "core/error.h"
 
 namespace furnace::analytic {
@@ -40,19 +40,6 @@ constexpr double kAgreement = 1e-11;
 // Sums of H·W closed-form terms against a constant-map identity: each term
 // carries a few ulps; 4·texels·ε bounds the accumulated round-off.
 double identity_tolerance(const LatLongMap& m) { return 4.0 * m.width * m.height * kEps; }
-
-// Bisecting 31-point Gauss–Kronrod to an absolute tolerance (Boost's own
-// adaptive driver stalls at tolerances near 2ε/(b − a): it compares an
-// unscaled error with a scaled tolerance).
-template <class F>
-double bisecting_quadrature(const F& f, double a, double b, double abs_tolerance, int depth) {
-  double error = 0;
-  const double value = boost::math::quadrature::gauss_kronrod<double, 31>::integrate(f, a, b, 0, 0.0, &error);
-  if (error * (b - a) / 2 <= abs_tolerance || depth == 0) return value;
-  const double mid = (a + b) / 2;
-  return bisecting_quadrature(f, a, mid, abs_tolerance / 2, depth - 1) +
-         bisecting_quadrature(f, mid, b, abs_tolerance / 2, depth - 1);
-}
 
 double cosine_at(const Vec3& n, double theta, double phi) {
   return n.x * std::sin(theta) * std::cos(phi) + n.y * std::sin(theta) * std::sin(phi) + n.z * std::cos(theta);
@@ -81,7 +68,7 @@ std::vector<double> zeros(const F& f, double a, double b) {
   return out;
 }
 
-// Splits [a, b] at the given interior points and sums the bisecting quadrature.
+// Splits [a, b] at the given interior points and sums core/adaptive_quadrature.h over the pieces.
 template <class F>
 double split_quadrature(const F& f, double a, double b, std::vector<double> cuts, double abs_tolerance) {
   cuts.push_back(a);
@@ -89,7 +76,7 @@ double split_quadrature(const F& f, double a, double b, std::vector<double> cuts
   std::sort(cuts.begin(), cuts.end());
   double sum = 0;
   for (size_t k = 0; k + 1 < cuts.size(); ++k)
-    if (cuts[k + 1] > cuts[k]) sum += bisecting_quadrature(f, cuts[k], cuts[k + 1], abs_tolerance, 60);
+    if (cuts[k + 1] > cuts[k]) sum += adaptive_gauss_kronrod(f, cuts[k], cuts[k + 1], abs_tolerance, 60);
   return sum;
 }
 

@@ -12,14 +12,14 @@
 #include <ostream>
 #include <string>
 
-#include <boost/math/distributions/normal.hpp>
 #include <gtest/gtest.h>
 
 #include "analytic/intersect.h"
 #include "analytic/reference.h"
 #include "core/error.h"
-#include "running_moments.h"
+#include "core/running_moments.h"
 #include "solid_angle_quadrature.h"
+#include "verify/statistics.h"
 
 namespace furnace::analytic {
 namespace {
@@ -213,8 +213,8 @@ MonteCarlo simulate(const Case& c, double omega) {
   const Cap cap = bounding_cap(c.shape, c.p);
   const Frame frame = Frame::from_normal(cap.axis);
   SplitMix64 rng{kMonteCarloSeed};
-  testing_support::RunningMoments moments;
-  while (moments.n < kMonteCarloSamples) {
+  RunningMoments moments;
+  while (moments.count < uint64_t(kMonteCarloSamples)) {
     const double cos_g = 1 - rng.next() * (1 - cap.cos_cap);
     const double sin_g = std::sqrt(std::fmax(0.0, (1 - cos_g) * (1 + cos_g)));
     const double phi = 2 * kPi * rng.next();
@@ -223,7 +223,8 @@ MonteCarlo simulate(const Case& c, double omega) {
     const double y = c.le * std::fmax(dot(c.n, w), 0.0) * omega;
     moments.add(y);
   }
-  return {moments.mean, moments.sample_variance(), moments.variance_standard_error(), moments.mean_standard_error()};
+  return {moments.mean, moments.sample_variance(), std::sqrt(stats::sample_variance_variance(moments)),
+          moments.mean_standard_error()};
 }
 
 class LightSolidAngleMonteCarlo : public testing::TestWithParam<Case> {};
@@ -241,8 +242,7 @@ TEST_P(LightSolidAngleMonteCarlo, VarianceMatchesSimulation) {
   const MonteCarlo mc = simulate(c, b.omega);
   const double predicted = m2 - e * e;
   const size_t family = 2 * cases().size();
-  const double alpha_each = -std::expm1(std::log1p(-kFamilyAlpha) / double(family));
-  const double z_crit = boost::math::quantile(boost::math::complement(boost::math::normal(), alpha_each / 2));
+  const double z_crit = stats::normal_upper_quantile(stats::sidak_alpha(kFamilyAlpha, family) / 2);
   const double z_mean = (mc.mean - e) / mc.mean_se;
   const double z_var = (mc.variance - predicted) / mc.variance_se;
   std::printf("[ MC ] %s: N %d, E %.8g mean %.8g z %.3f; Var predicted %.8g measured %.8g z %.3f (crit %.3f, "
@@ -276,7 +276,7 @@ TEST(LightSolidAngleMonteCarloControl, ClippedSolidAngleIsRejected) {
     const double wrong = omega_above * c.le * c.le * b.cos2 - e * e;
     const MonteCarlo mc = simulate(c, b.omega);
     const double z = (mc.variance - wrong) / mc.variance_se;
-    const double z_crit = boost::math::quantile(boost::math::complement(boost::math::normal(), kFamilyAlpha / 2));
+    const double z_crit = stats::normal_upper_quantile(kFamilyAlpha / 2);
     std::printf("[ MC control ] %s: clipped-Ω variance %.8g vs measured %.8g, z %.3f (crit %.3f)\n", c.name.c_str(),
                 wrong, mc.variance, z, z_crit);
     EXPECT_GT(std::fabs(z), z_crit);

@@ -13,13 +13,13 @@
 #include <ostream>
 #include <string>
 
-#include <boost/math/distributions/normal.hpp>
 #include <gtest/gtest.h>
 
 #include "analytic/intersect.h"
 #include "analytic/reference.h"
 #include "core/error.h"
-#include "running_moments.h"
+#include "core/running_moments.h"
+#include "verify/statistics.h"
 
 namespace furnace::analytic {
 namespace {
@@ -146,7 +146,7 @@ Moments simulate(const Case& c, int beta) {
   const LightModel light(c, pmf);
   const Frame frame = Frame::from_normal(kN);
   SplitMix64 rng{kSeed + uint64_t(beta)};
-  testing_support::RunningMoments moments;
+  RunningMoments moments;
   auto radiance_and_light_pdf = [&](const Vec3& w, double* p_light) {
     if (intersect_shape(c.shape, kP, w, 0)) {
       *p_light = light.emits_towards(w) ? light.pdf(w) : 0.0;
@@ -185,12 +185,12 @@ Moments simulate(const Case& c, int beta) {
     }
     moments.add(y);
   }
-  return {moments.mean, moments.sample_variance(), moments.mean_standard_error(), moments.variance_standard_error()};
+  return {moments.mean, moments.sample_variance(), moments.mean_standard_error(),
+          std::sqrt(stats::sample_variance_variance(moments))};
 }
 
 double z_critical(size_t family) {
-  const double alpha_each = -std::expm1(std::log1p(-kFamilyAlpha) / double(family));
-  return boost::math::quantile(boost::math::complement(boost::math::normal(), alpha_each / 2));
+  return stats::normal_upper_quantile(stats::sidak_alpha(kFamilyAlpha, family) / 2);
 }
 
 void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }

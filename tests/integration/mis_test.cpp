@@ -17,8 +17,6 @@
 #include <optional>
 #include <string>
 
-#include <boost/math/distributions/normal.hpp>
-
 #include "renderer/direct_strategies.h"
 #include "renderer/embree_scene.h"
 #include "renderer/lights.h"
@@ -159,12 +157,6 @@ TEST(MisWeights, UnnormalisedDefectBreaksTheSum) {
 constexpr int kVeachSpp = 1024;
 constexpr double kVeachFamilyAlpha = 1e-3;
 
-double variance_of_s2(const PixelMoments& m) {
-  const double n = double(m.count);
-  const double s2 = m.sample_variance();
-  return std::max(0.0, (m.m4 / n - (n - 3) / (n - 1) * s2 * s2) / n);
-}
-
 TEST(MisVariance, BalanceRespectsVeachBound) {
   const Scene scene = load_scene(scene_path("three_lights"));
   auto render_with = [&](Strategy s) {
@@ -200,7 +192,7 @@ TEST(MisVariance, BalanceRespectsVeachBound) {
                         {"light-only, 2 samples (brief)", &light, 0.5},
                         {"bsdf-only, 2 samples (brief)", &bsdf, 0.5}};
   const double alpha_each = stats::sidak_alpha(kVeachFamilyAlpha, pixels.size() * std::size(forms));
-  const double z_crit = boost::math::quantile(boost::math::complement(boost::math::normal(), alpha_each));
+  const double z_crit = stats::normal_upper_quantile(alpha_each);  // one-sided
   constexpr double kMinSlack = 0.5;  // (1/min n_i − 1/Σ n_i) with n = (1, 1)
   for (const Form& f : forms) {
     int failures = 0;
@@ -210,7 +202,8 @@ TEST(MisVariance, BalanceRespectsVeachBound) {
       const PixelMoments& s = f.single->pixels[i];
       const double mu = b.mean;
       const double bound = f.single_scale * s.sample_variance() + kMinSlack * mu * mu;
-      const double se = std::sqrt(variance_of_s2(b) + f.single_scale * f.single_scale * variance_of_s2(s) +
+      const double se = std::sqrt(stats::sample_variance_variance(b) +
+                                  f.single_scale * f.single_scale * stats::sample_variance_variance(s) +
                                   kMinSlack * kMinSlack * 4 * mu * mu * b.sample_variance() / double(b.count));
       const double z = se > 0 ? (b.sample_variance() - bound) / se : (b.sample_variance() > bound ? HUGE_VAL : 0.0);
       if (z > z_crit) ++failures;

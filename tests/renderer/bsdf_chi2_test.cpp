@@ -25,7 +25,6 @@
 #include <ostream>
 #include <string>
 
-#include <boost/math/distributions/normal.hpp>
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 
 #include "renderer/bsdf.h"
@@ -237,7 +236,7 @@ TEST(BsdfPdf, IntegratesToSuccessProbability) {
   using boost::math::quadrature::gauss_kronrod;
   const std::vector<BsdfCase> cases = correct_cases();
   const double alpha_each = sidak_alpha(kFamilyAlpha, cases.size());
-  const double z_crit = boost::math::quantile(boost::math::complement(boost::math::normal(), alpha_each / 2));
+  const double z_crit = normal_upper_quantile(alpha_each / 2);
   for (const BsdfCase& c : cases) {
     const Bsdf bsdf{&c.material};
     const Vec3 wo = wo_at(c.incidence_deg);

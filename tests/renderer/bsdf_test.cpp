@@ -16,7 +16,6 @@
 namespace furnace {
 namespace {
 
-using testing_support::Welford;
 
 constexpr uint64_t kSeed = 0xb5df;
 constexpr int kSamples = 1 << 15;
@@ -71,8 +70,8 @@ TEST_P(BsdfTest, SampleAgreesWithPdfAndEval) {
 // BSDF lobes have kinks (cos α = 0, the horizon) that make nested adaptive
 // quadrature crawl, and an estimate with a data-derived variance is all the
 // two-sample tests below need.
-Welford hemisphere_integral(const std::function<double(const Vec3&)>& g, uint64_t stream) {
-  Welford w;
+RunningMoments hemisphere_integral(const std::function<double(const Vec3&)>& g, uint64_t stream) {
+  RunningMoments w;
   for (int i = 0; i < kSamples; ++i) {
     Rng rng(kSeed, stream, uint64_t(i));
     const double u1 = rng.next_double(), u2 = rng.next_double();
@@ -84,8 +83,8 @@ Welford hemisphere_integral(const std::function<double(const Vec3&)>& g, uint64_
 TEST_P(BsdfTest, PdfIntegratesToSuccessProbability) {
   // ∫_H pdf dω (the lobe mass above the horizon) = P(sample() succeeds).
   const Bsdf b = bsdf();
-  const Welford mass = hemisphere_integral([&](const Vec3& wi) { return b.pdf(wo(), wi); }, 10);
-  Welford success;
+  const RunningMoments mass = hemisphere_integral([&](const Vec3& wi) { return b.pdf(wo(), wi); }, 10);
+  RunningMoments success;
   for (int i = 0; i < kSamples; ++i) {
     Rng rng(kSeed, 1, uint64_t(i));
     const double u1 = rng.next_double(), u2 = rng.next_double();
@@ -100,8 +99,8 @@ TEST_P(BsdfTest, PdfIntegratesToSuccessProbability) {
 TEST_P(BsdfTest, MeanWeightIsDirectionalAlbedo) {
   // E[weight] = ∫ f cos dωi, the directional albedo, ≤ ρ.
   const Bsdf b = bsdf();
-  const Welford albedo = hemisphere_integral([&](const Vec3& wi) { return b.eval(wo(), wi) * wi.z; }, 11);
-  Welford weight;
+  const RunningMoments albedo = hemisphere_integral([&](const Vec3& wi) { return b.eval(wo(), wi) * wi.z; }, 11);
+  RunningMoments weight;
   for (int i = 0; i < kSamples; ++i) {
     Rng rng(kSeed, 2, uint64_t(i));
     const double u1 = rng.next_double(), u2 = rng.next_double();
@@ -110,7 +109,7 @@ TEST_P(BsdfTest, MeanWeightIsDirectionalAlbedo) {
   }
   EXPECT_TRUE(testing_support::means_consistent(albedo, weight)) << albedo.mean << " vs " << weight.mean;
   EXPECT_LE(weight.mean, b.material->albedo * (1 + testing_support::kConstantMeanRelTol) +
-                             testing_support::z_critical(testing_support::kAlpha) * weight.standard_error());
+                             testing_support::z_critical(testing_support::kAlpha) * weight.mean_standard_error());
 }
 
 TEST_P(BsdfTest, ZeroBelowTheHorizon) {

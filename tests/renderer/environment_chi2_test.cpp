@@ -19,7 +19,6 @@
 // family-wise level kFamilyAlpha by the Šidák correction, and the negative
 // control runs at the same per-test level. Each test prints its statistic,
 // p-value and detectable effect (Cohen's w at kDefaultPower).
-#include <boost/math/distributions/normal.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -30,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "core/running_moments.h"
 #include "core/scene.h"
 #include "renderer/environment_sampler.h"
 #include "renderer/rng.h"
@@ -189,19 +189,17 @@ TEST_P(EnvironmentSamplerChi2, MeanInversePdfIsSupportSolidAngle) {
       if (map->texel(i, j) > 0)
         support += (2 * kPi / map->width) * (cos_edge(i, map->height) - cos_edge(i + 1, map->height));
   constexpr size_t kInversePdfSamples = 200000;
-  double mean = 0, m2 = 0;
+  RunningMoments inverse_pdf;
   for (size_t s = 0; s < kInversePdfSamples; ++s) {
     Rng rng(kSeed, 4, s);
     const double u1 = rng.next_double(), u2 = rng.next_double();
     const auto e = sampler.sample(u1, u2);
     ASSERT_TRUE(e.has_value());
-    const double y = 1.0 / e->pdf_solid_angle, delta = y - mean;
-    mean += delta / double(s + 1);
-    m2 += delta * (y - mean);
+    inverse_pdf.add(1.0 / e->pdf_solid_angle);
   }
-  const double standard_error = std::sqrt(m2 / double(kInversePdfSamples - 1) / double(kInversePdfSamples));
+  const double mean = inverse_pdf.mean, standard_error = inverse_pdf.mean_standard_error();
   const double alpha = stats::sidak_alpha(kFamilyAlpha, kCorrectMaps);
-  const double critical = boost::math::quantile(boost::math::normal(), 1 - alpha / 2);
+  const double critical = stats::normal_upper_quantile(alpha / 2);
   std::printf("%-10s mean 1/pdf %.6f support %.6f standard error %.3g\n", GetParam().name.c_str(), mean, support,
               standard_error);
   if (standard_error <= 1e-12 * support) EXPECT_NEAR(mean, support, 1e-12 * support);

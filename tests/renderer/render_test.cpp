@@ -1,7 +1,7 @@
 // render(): bit-identical images across thread counts and runs, distinct
 // images for distinct seeds, exact furnace scenes (zero variance where the
-// sampling is exact), Russian roulette's 1/p reweighting, the moment
-// accumulator, names and errors.
+// sampling is exact), Russian roulette's 1/p reweighting, names and errors
+// (the moment accumulator itself is tested in tests/core).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -20,7 +20,6 @@ using testing_support::make_camera;
 using testing_support::make_floor;
 using testing_support::make_object;
 using testing_support::strategy_param_name;
-using testing_support::Welford;
 
 constexpr uint64_t kSeed = 0x0e2d;
 
@@ -98,11 +97,8 @@ TEST_P(EveryStrategy, FurnaceFloorGivesRhoTimesEnvironment) {
       EXPECT_NEAR(p.mean / expected, 1.0, 1e-14);
       EXPECT_LE(p.sample_variance(), 1e-28);
     } else {
-      Welford w;  // the pixel's own mean and variance as a z-test
-      w.n = double(p.count);
-      w.mean = p.mean;
-      w.m2 = p.m2;
-      EXPECT_TRUE(testing_support::mean_consistent(w, expected)) << p.mean;
+      // The pixel's own mean and variance as a z-test.
+      EXPECT_TRUE(testing_support::mean_consistent(p, expected)) << p.mean;
       EXPECT_GT(p.sample_variance(), 0.0);
     }
   }
@@ -318,30 +314,6 @@ TEST(Render, NonFiniteSamplesAreDroppedAndCounted) {
     kept += p.count;
   }
   EXPECT_EQ(kept + image.nonfinite_samples, uint64_t(o.spp) * image.pixels.size());
-}
-
-TEST(PixelMoments, MatchTwoPassMoments) {
-  const double ys[] = {0.3, 1.7, -2.2, 0.0, 5.5, 1.25, 3.0, -0.75, 2.0, 0.1};
-  PixelMoments m;
-  double sum = 0;
-  for (double y : ys) {
-    m.add(y);
-    sum += y;
-  }
-  const double n = std::size(ys), mean = sum / n;
-  double m2 = 0, m3 = 0, m4 = 0;
-  for (double y : ys) {
-    const double d = y - mean;
-    m2 += d * d;
-    m3 += d * d * d;
-    m4 += d * d * d * d;
-  }
-  EXPECT_EQ(m.count, std::size(ys));
-  EXPECT_NEAR(m.mean, mean, 1e-14);
-  EXPECT_NEAR(m.m2 / m2, 1.0, 1e-13);
-  EXPECT_NEAR(m.m3 / m3, 1.0, 1e-12);
-  EXPECT_NEAR(m.m4 / m4, 1.0, 1e-13);
-  EXPECT_NEAR(m.sample_variance(), m2 / (n - 1), 1e-13);
 }
 
 TEST(Names, RoundTripAndErrorsNameTheValue) {

@@ -17,7 +17,6 @@
 namespace furnace {
 namespace {
 
-using testing_support::Welford;
 
 constexpr uint64_t kSeed = 0x5a3b1e;       // fixed: deterministic outcomes
 constexpr int kMonteCarloSamples = 1 << 16;
@@ -165,7 +164,7 @@ TEST_P(DirectionalWarpTest, JacobianEqualsInversePdf) {
 
 TEST_P(DirectionalWarpTest, MeanOfTestFunctionOverPdfEqualsIntegral) {
   const DirectionalWarp& w = GetParam();
-  Welford stats;
+  RunningMoments stats;
   for (int i = 0; i < kMonteCarloSamples; ++i) {
     Rng rng(kSeed, 0, uint64_t(i));
     const double u1 = rng.next_double(), u2 = rng.next_double();
@@ -173,7 +172,7 @@ TEST_P(DirectionalWarpTest, MeanOfTestFunctionOverPdfEqualsIntegral) {
     stats.add(w.g(d) / w.pdf(d));
   }
   EXPECT_TRUE(testing_support::mean_consistent(stats, w.g_integral))
-      << "mean " << stats.mean << " ± " << stats.standard_error() << ", expected " << w.g_integral;
+      << "mean " << stats.mean << " ± " << stats.mean_standard_error() << ", expected " << w.g_integral;
 }
 
 INSTANTIATE_TEST_SUITE_P(Warps, DirectionalWarpTest, testing::ValuesIn(directional_warps()),
@@ -190,7 +189,7 @@ TEST(CosineHemisphere, MalleyAndInversionHaveTheSameMoments) {
                             {[](const Vec3& w) { return w.x * w.x; }, 0.25}};
   for (const auto& sampler : {sample_cosine_hemisphere, sample_cosine_hemisphere_malley}) {
     for (const Moment& m : moments) {
-      Welford stats;
+      RunningMoments stats;
       for (int i = 0; i < kMonteCarloSamples; ++i) {
         Rng rng(kSeed, 1, uint64_t(i));
         const double u1 = rng.next_double(), u2 = rng.next_double();

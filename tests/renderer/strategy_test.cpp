@@ -26,7 +26,6 @@ namespace {
 
 using testing_support::make_floor;
 using testing_support::make_object;
-using testing_support::Welford;
 
 constexpr uint64_t kSeed = 0x57a7;
 constexpr int kSamples = 1 << 14;
@@ -126,14 +125,14 @@ TEST_P(LightStrategyTest, MeanInversePdfIsSolidAngle) {
   Fixture f(light().shape);
   const LightStrategy strategy{f.rtc.get(), f.lights.get(), mode(), Defect::kNone};
   const ShadingContext ctx = f.context();
-  Welford inverse_pdf;
+  RunningMoments inverse_pdf;
   for (int i = 0; i < kSamples; ++i) {
     Rng rng(kSeed, 1, uint64_t(i));
     const auto s = strategy.sample(ctx, next_uniform3(rng));
     inverse_pdf.add(s ? 1.0 / s->pdf_solid_angle : 0.0);
   }
   EXPECT_TRUE(testing_support::mean_consistent(inverse_pdf, light().solid_angle_from_origin))
-      << inverse_pdf.mean << " ± " << inverse_pdf.standard_error() << " vs " << light().solid_angle_from_origin;
+      << inverse_pdf.mean << " ± " << inverse_pdf.mean_standard_error() << " vs " << light().solid_angle_from_origin;
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -197,7 +196,7 @@ TEST(LightStrategy, TwoSidedLightIsSampledFromBehindAndOneSidedIsNot) {
     Fixture two(away, 0, true), one(away, 0, false);
     const LightStrategy two_sided{two.rtc.get(), two.lights.get(), mode, Defect::kNone};
     const LightStrategy one_sided{one.rtc.get(), one.lights.get(), mode, Defect::kNone};
-    Welford inverse_pdf;
+    RunningMoments inverse_pdf;
     TraceCounters counters;
     for (int i = 0; i < kSamples; ++i) {
       Rng rng(kSeed, 5, uint64_t(i));

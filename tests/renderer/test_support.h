@@ -9,6 +9,7 @@
 #include <boost/math/distributions/normal.hpp>
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 
+#include "core/running_moments.h"
 #include "core/scene.h"
 
 namespace furnace::testing_support {
@@ -22,27 +23,14 @@ inline double z_critical(double alpha) {
   return boost::math::quantile(boost::math::complement(boost::math::normal(), alpha / 2));
 }
 
-// Running mean and variance (Welford).
-struct Welford {
-  double n = 0, mean = 0, m2 = 0;
-  void add(double x) {
-    n += 1;
-    const double d = x - mean;
-    mean += d / n;
-    m2 += d * (x - mean);
-  }
-  double variance() const { return n > 1 ? m2 / (n - 1) : 0.0; }
-  double standard_error() const { return std::sqrt(variance() / n); }
-};
-
 // Round-off allowance of a mean of exactly constant values, relative:
 // summing 2^16 terms in double accumulates at most ~n·ε ≈ 1.5e-11.
 inline constexpr double kConstantMeanRelTol = 1e-10;
 
 // True if the sample mean is consistent with `expected` at level kAlpha
 // (z-test, data-derived standard error; zero variance allows only round-off).
-inline bool mean_consistent(const Welford& w, double expected) {
-  const double allowance = z_critical(kAlpha) * w.standard_error() + kConstantMeanRelTol * std::fabs(expected);
+inline bool mean_consistent(const RunningMoments& w, double expected) {
+  const double allowance = z_critical(kAlpha) * w.mean_standard_error() + kConstantMeanRelTol * std::fabs(expected);
   return std::fabs(w.mean - expected) <= allowance;
 }
 
@@ -59,8 +47,8 @@ inline bool means_consistent(const Estimate& a, const Estimate& b) {
   const double allowance = z_critical(kAlpha) * se + kConstantMeanRelTol * std::fmax(std::fabs(a.mean), std::fabs(b.mean));
   return std::fabs(a.mean - b.mean) <= allowance;
 }
-inline bool means_consistent(const Welford& a, const Welford& b) {
-  return means_consistent(Estimate{a.mean, a.standard_error()}, Estimate{b.mean, b.standard_error()});
+inline bool means_consistent(const RunningMoments& a, const RunningMoments& b) {
+  return means_consistent(Estimate{a.mean, a.mean_standard_error()}, Estimate{b.mean, b.mean_standard_error()});
 }
 
 // ∫∫ f(w) dω over directions with t = 1 − cos θ in [t_min, t_max], φ in [0, 2π],

@@ -4,16 +4,16 @@
 #include <cmath>
 #include <cstdint>
 
-#include "renderer/render.h"
+#include "core/running_moments.h"
 #include "renderer/rng.h"
 #include "verify/statistics.h"
 
 namespace furnace::stats::testing_support {
 
-// The renderer's running central moments (Welford / Terriberry; their
-// agreement with two-pass moments is tested in tests/renderer), with the
-// summary the statistics take.
-struct Moments : PixelMoments {
+// The running central moments the renderer keeps per pixel (their agreement
+// with two-pass moments is tested in tests/core), with the summary the
+// statistics take.
+struct Moments : RunningMoments {
   SampleSummary summary() const { return {count, mean, sample_variance()}; }
 };
 

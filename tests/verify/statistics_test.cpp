@@ -153,7 +153,7 @@ TEST(MeanTest, DegenerateInputsFail) {
 // Exp(1) has skewness exactly 2: Cochran's rule asks N > 25·4 = 100.
 TEST(MeanTest, SkewnessAndCochranRule) {
   const Moments large = draw(kSeed, 9, kSamples, exponential);
-  const MeanTestResult r = mean_test(moment_sums(large), kExponentialMean, kAlpha);
+  const MeanTestResult r = mean_test(large, kExponentialMean, kAlpha);
   EXPECT_NEAR(r.skewness, 2.0, 0.1);
   EXPECT_TRUE(r.clt_adequate);
   EXPECT_TRUE(r.pass) << r.message;
@@ -162,7 +162,7 @@ TEST(MeanTest, SkewnessAndCochranRule) {
   EXPECT_EQ(r.statistic, plain.statistic);
   EXPECT_EQ(r.detectable_bias, plain.detectable_bias);
   const Moments small = draw(kSeed, 10, 40, exponential);
-  const MeanTestResult few = mean_test(moment_sums(small), kExponentialMean, kAlpha);
+  const MeanTestResult few = mean_test(small, kExponentialMean, kAlpha);
   EXPECT_FALSE(few.clt_adequate) << "skewness " << few.skewness;
   EXPECT_NE(few.message.find("Cochran"), std::string::npos) << few.message;
 }
@@ -172,38 +172,38 @@ TEST(MeanTest, SkewnessAndCochranRule) {
 // N = kSamples, α = kAlpha.
 TEST(VarianceTest, UniformPassesAtTrueVarianceFailsBeyondDetectableError) {
   const Moments m = draw(kSeed, 3, kSamples, uniform);
-  const VarianceTestResult ok = variance_test(moment_sums(m), kUniformVariance, kAlpha);
+  const VarianceTestResult ok = variance_test(m, kUniformVariance, kAlpha);
   report("uniform_detectable_relative_variance_error", ok.detectable_relative_error);
   EXPECT_TRUE(ok.pass) << ok.message;
   for (double sign : {-1.0, 1.0}) {
     const double wrong = kUniformVariance * (1 + sign * kControlShift * ok.detectable_relative_error);
-    EXPECT_FALSE(variance_test(moment_sums(m), wrong, kAlpha).pass) << "sign " << sign;
+    EXPECT_FALSE(variance_test(m, wrong, kAlpha).pass) << "sign " << sign;
   }
 }
 
 // N = kSamples, α = kAlpha. The SE of s² uses μ4 = 9 σ⁴ here (vs 1.8 σ⁴ for the uniform).
 TEST(VarianceTest, ExponentialPassesAtTrueVarianceFailsBeyondDetectableError) {
   const Moments m = draw(kSeed, 4, kSamples, exponential);
-  const VarianceTestResult ok = variance_test(moment_sums(m), kExponentialVariance, kAlpha);
+  const VarianceTestResult ok = variance_test(m, kExponentialVariance, kAlpha);
   report("exponential_detectable_relative_variance_error", ok.detectable_relative_error);
   EXPECT_TRUE(ok.pass) << ok.message;
   // SE(s²)/σ² → √((μ4/σ⁴ − 1)/N) = √(8/N) for Exp(1).
   EXPECT_NEAR(ok.standard_error, std::sqrt(8.0 / double(kSamples)), 0.1 * std::sqrt(8.0 / double(kSamples)));
-  EXPECT_FALSE(variance_test(moment_sums(m), kExponentialVariance * (1 + kControlShift * ok.detectable_relative_error), kAlpha).pass);
+  EXPECT_FALSE(variance_test(m, kExponentialVariance * (1 + kControlShift * ok.detectable_relative_error), kAlpha).pass);
 }
 
 TEST(VarianceTest, ZeroPredictedVariance) {
   Moments exact;
   for (int i = 0; i < 200; ++i) exact.add(0.25);
-  EXPECT_TRUE(variance_test(moment_sums(exact), 0.0, kAlpha).pass);
-  EXPECT_FALSE(variance_test(moment_sums(exact), 0.01, kAlpha).pass);  // nonzero predicted, none observed
+  EXPECT_TRUE(variance_test(exact, 0.0, kAlpha).pass);
+  EXPECT_FALSE(variance_test(exact, 0.01, kAlpha).pass);  // nonzero predicted, none observed
   const Moments noisy = draw(kSeed, 5, 200, uniform);
-  EXPECT_FALSE(variance_test(moment_sums(noisy), 0.0, kAlpha).pass);
+  EXPECT_FALSE(variance_test(noisy, 0.0, kAlpha).pass);
 }
 
 TEST(VarianceTest, TooFewSamplesFail) {
   const Moments m = draw(kSeed, 6, kMinVarianceTestSamples - 1, uniform);
-  const VarianceTestResult r = variance_test(moment_sums(m), kUniformVariance, kAlpha);
+  const VarianceTestResult r = variance_test(m, kUniformVariance, kAlpha);
   EXPECT_FALSE(r.pass);
   EXPECT_FALSE(r.message.empty());
 }

@@ -1,0 +1,83 @@
+// Adaptive Gauss–Kronrod quadrature that terminates on tiny intervals.
+//
+// Boost 1.74's own recursive mode of gauss_kronrod::integrate compares the
+// error estimate of a piece rescaled to [−1, 1] with a tolerance on the
+// unscaled integral, so on a short interval (a sphere light subtending 1e-12 sr
+// is a cone of half-angle 1e-6) it can never meet the tolerance and bisects
+// everything to full depth, nested integrals multiplying the cost (minutes per
+// pixel). Here Boost's rule is applied once per piece (its own error estimate,
+// rescaled by the half-width) and pieces are bisected until their error meets
+// an absolute tolerance shared out by halving, or `depth` levels are used up.
+//
+// The depth bounds the cost of a jump: the piece holding it fails at every
+// level (its error and its share of the tolerance both halve), so each jump
+// costs 2·depth rule applications and its error ends at about
+// jump·width·2^−depth. It does not bound the cost where every piece fails:
+// a tolerance below round-off (keep it above ~100 ε·|∫f|), a relative
+// tolerance whose first estimate missed the integrand's mass, or an
+// integrand that is noise at the scale of the pieces (a support test
+// flickering along a rim). There the recursion costs 2^depth unless the
+// bisections are capped.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include <boost/math/quadrature/gauss_kronrod.hpp>
+
+namespace furnace {
+
+// Points of the Kronrod rule unless a caller asks for another: 31 points
+// integrate polynomials of degree 46 exactly, so smooth pieces stop at once.
+inline constexpr unsigned kDefaultKronrodPoints = 31;
+
+// ∫_a^b f to an absolute tolerance, at most `depth` bisection levels.
+// `bisections_left`, when given, caps the bisections of the whole integral:
+// each one decrements it, and at 0 every remaining piece keeps its one-rule
+// value. A cap bounds the cost where the integrand is round-off noise at
+// the scale of the pieces (a support test flickering along a rim), which no
+// depth cap does: there every piece fails and the cost is 2^depth.
+template <unsigned Points = kDefaultKronrodPoints, class F>
+double adaptive_gauss_kronrod(const F& f, double a, double b, double abs_tolerance, int depth,
+                              size_t* bisections_left = nullptr) {
+  double error = 0;
+  const double value = boost::math::quadrature::gauss_kronrod<double, Points>::integrate(f, a, b, 0, 0.0, &error);
+  if (error * (b - a) / 2 <= abs_tolerance || depth == 0) return value;
+  if (bisections_left != nullptr) {
+    if (*bisections_left == 0) return value;
+    --*bisections_left;
+  }
+  const double mid = (a + b) / 2;
+  return adaptive_gauss_kronrod<Points>(f, a, mid, abs_tolerance / 2, depth - 1, bisections_left) +
+         adaptive_gauss_kronrod<Points>(f, mid, b, abs_tolerance / 2, depth - 1, bisections_left);
+}
+
+// No cap on the bisections of an integral (the depth alone bounds them).
+inline constexpr size_t kUnlimitedBisections = SIZE_MAX;
+
+// The same to a tolerance relative to a first estimate of |∫f|: one rule
+// application on each of `initial_pieces` equal pieces of [a, b], which then
+// share the absolute tolerance equally. More than one piece puts the first
+// nodes closer together, so that a narrow feature is less likely to fall
+// between all of them (no error estimate sees what no node samples).
+// `max_bisections` caps the bisections of the whole integral (see above).
+template <unsigned Points = kDefaultKronrodPoints, class F>
+double adaptive_gauss_kronrod_relative(const F& f, double a, double b, double rel_tolerance, int depth,
+                                       int initial_pieces = 1, size_t max_bisections = kUnlimitedBisections) {
+  const auto edge = [&](int i) { return i == initial_pieces ? b : a + (b - a) * i / initial_pieces; };
+  double first = 0;
+  for (int i = 0; i < initial_pieces; ++i) {
+    double error = 0;
+    first += boost::math::quadrature::gauss_kronrod<double, Points>::integrate(f, edge(i), edge(i + 1), 0, 0.0, &error);
+  }
+  const double abs_tolerance = rel_tolerance * std::fabs(first) / initial_pieces;
+  size_t bisections_left = max_bisections;
+  size_t* cap = max_bisections == kUnlimitedBisections ? nullptr : &bisections_left;
+  double sum = 0;
+  for (int i = 0; i < initial_pieces; ++i)
+    sum += adaptive_gauss_kronrod<Points>(f, edge(i), edge(i + 1), abs_tolerance, depth, cap);
+  return sum;
+}
+
+}  // namespace furnace

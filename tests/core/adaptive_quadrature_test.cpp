@@ -1,0 +1,94 @@
+// The adaptive Gauss–Kronrod of core/adaptive_quadrature.h: exact on
+// polynomials its rule integrates exactly, within tolerance on smooth and
+// discontinuous integrands, terminating on tiny intervals, and the relative
+// form with one initial piece equal to the absolute form at its tolerance.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include <boost/math/constants/constants.hpp>
+
+#include "core/adaptive_quadrature.h"
+
+namespace furnace {
+namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr int kDepth = 40;  // the deepest callers go (analytic/, verify/chi2.h)
+
+TEST(AdaptiveGaussKronrod, ExactOnPolynomialsUpToTheRuleDegree) {
+  // 31-point Kronrod: degree 3·15 + 1 = 46; ∫_0^1 x^k = 1/(k + 1).
+  for (int k : {0, 1, 7, 30, 46}) {
+    const double value = adaptive_gauss_kronrod([&](double x) { return std::pow(x, k); }, 0.0, 1.0, 0.0, 0);
+    EXPECT_NEAR(value, 1.0 / (k + 1), 16 * kEps) << "x^" << k;
+  }
+}
+
+TEST(AdaptiveGaussKronrod, SmoothIntegrandMeetsTolerance) {
+  const double exact = std::expm1(3.0);
+  // Down to ~250 ε·|∫f|: the header's floor for a reachable tolerance.
+  for (double tolerance : {1e-6, 1e-10, 1e-12}) {
+    const double value = adaptive_gauss_kronrod([](double x) { return std::exp(x); }, 0.0, 3.0, tolerance, kDepth);
+    EXPECT_NEAR(value, exact, tolerance + 4 * kEps * exact) << tolerance;
+  }
+}
+
+// A jump at an irrational point is never on a node or a bisection point:
+// each level halves the error of the piece holding it.
+TEST(AdaptiveGaussKronrod, JumpIsResolvedByBisection) {
+  const double jump = 1 / std::sqrt(2.0);
+  const auto step = [&](double x) { return x < jump ? 1.0 : 0.0; };
+  const double one_rule = adaptive_gauss_kronrod(step, 0.0, 1.0, 0.0, 0);
+  const double bisected = adaptive_gauss_kronrod(step, 0.0, 1.0, 1e-12, kDepth);
+  EXPECT_GT(std::fabs(one_rule - jump), 1e-4);  // negative control: one rule cannot resolve it
+  EXPECT_NEAR(bisected, jump, 1e-11);
+}
+
+TEST(AdaptiveGaussKronrod, TerminatesOnATinyInterval) {
+  // The t-range of a cone of half-angle 1e-6 (t = 1 − cos θ ≈ θ²/2).
+  const double t_max = 5e-13;
+  const double value =
+      adaptive_gauss_kronrod_relative([](double t) { return 1 - t; }, 0.0, t_max, 1e-12, kDepth);
+  EXPECT_NEAR(value, t_max - t_max * t_max / 2, 4 * kEps * t_max);
+}
+
+TEST(AdaptiveGaussKronrodRelative, OnePieceEqualsAbsoluteFormAtItsTolerance) {
+  const auto f = [](double x) { return std::sqrt(x) * std::cos(5 * x); };
+  const double rel = 1e-10;
+  double error = 0;
+  const double first = boost::math::quadrature::gauss_kronrod<double, 31>::integrate(f, 0.0, 2.0, 0, 0.0, &error);
+  EXPECT_EQ(adaptive_gauss_kronrod_relative(f, 0.0, 2.0, rel, kDepth),
+            adaptive_gauss_kronrod(f, 0.0, 2.0, rel * std::fabs(first), kDepth));
+}
+
+TEST(AdaptiveGaussKronrodRelative, InitialPiecesFindANarrowPeak) {
+  // A peak of width 1e-3 at 0.8: 7 widths from the nearest node of one
+  // 15-point rule on [0, 1], under 2 widths from a node of the rules on four
+  // quarters.
+  const double centre = 0.8, width = 1e-3;
+  const auto peak = [&](double x) { return std::exp(-0.5 * std::pow((x - centre) / width, 2)); };
+  const double exact = width * boost::math::constants::root_two_pi<double>();
+  // Negative control: what the first estimate of one piece sees (no bisection).
+  EXPECT_LT(adaptive_gauss_kronrod_relative<15>(peak, 0.0, 1.0, 1e-10, 0, 1), 1e-6 * exact);
+  EXPECT_NEAR(adaptive_gauss_kronrod_relative<15>(peak, 0.0, 1.0, 1e-10, kDepth, 4), exact, 1e-10 * exact);
+}
+
+// Pseudo-random 0/1 noise: every piece's error estimate fails at every
+// level, so only the bisection cap ends the recursion.
+TEST(AdaptiveGaussKronrodRelative, BisectionCapBoundsTheCostOfNoise) {
+  size_t evaluations = 0;
+  const auto noise = [&](double x) {
+    ++evaluations;
+    return std::fmod(std::fabs(std::sin(1e6 * x)) * 1e4, 1.0) < 0.5 ? 1.0 : 0.0;
+  };
+  constexpr size_t kCap = 200;
+  const double value = adaptive_gauss_kronrod_relative<15>(noise, 0.0, 1.0, 1e-11, kDepth, 4, kCap);
+  // 4 first estimates, 4 pieces before bisecting, 2 rules per bisection.
+  EXPECT_LE(evaluations, 15 * (4 + 4 + 2 * kCap));
+  EXPECT_GT(value, 0.0);
+  EXPECT_LT(value, 1.0);
+}
+
+}  // namespace
+}  // namespace furnace
