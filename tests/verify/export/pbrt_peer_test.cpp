@@ -28,14 +28,10 @@
 #include <string>
 #include <vector>
 
-#include <OpenEXR/ImfChannelList.h>
-#include <OpenEXR/ImfFrameBuffer.h>
-#include <OpenEXR/ImfHeader.h>
-#include <OpenEXR/ImfInputFile.h>
-#include <OpenEXR/ImfOutputFile.h>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "core/exr.h"
 #include "core/scene.h"
 #include "verify/export/pbrt_v4.h"
 
@@ -81,45 +77,13 @@ CommandResult run(const std::string& command) {
 
 std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
-// The gray value (mean of R, G and B) of a float RGB EXR, row-major.
-std::vector<double> read_gray(const fs::path& path, int* width = nullptr, int* height = nullptr) {
-  Imf::InputFile file(path.c_str());
-  const Imath::Box2i dw = file.header().dataWindow();
-  const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
-  const size_t n = size_t(w) * h;
-  std::vector<float> planes[3] = {std::vector<float>(n), std::vector<float>(n), std::vector<float>(n)};
-  Imf::FrameBuffer frame;
-  const char* names[3] = {"R", "G", "B"};
-  for (int c = 0; c < 3; ++c) {
-    char* base = reinterpret_cast<char*>(planes[c].data()) - (ptrdiff_t(dw.min.x) + ptrdiff_t(dw.min.y) * w) * 4;
-    frame.insert(names[c], Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * size_t(w)));
-  }
-  file.setFrameBuffer(frame);
-  file.readPixels(dw.min.y, dw.max.y);
-  std::vector<double> gray(n);
-  for (size_t i = 0; i < n; ++i) gray[i] = (double(planes[0][i]) + planes[1][i] + planes[2][i]) / 3;
-  if (width) *width = w;
-  if (height) *height = h;
-  return gray;
-}
-
-// Rewrites a float RGB EXR mirrored left to right (R = G = B = its gray value).
+// Rewrites an EXR mirrored left to right, every channel (and attribute) kept.
 void flip_horizontally(const fs::path& path) {
-  int w = 0, h = 0;
-  const std::vector<double> gray = read_gray(path, &w, &h);
-  std::vector<float> flipped(gray.size());
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) flipped[size_t(y) * w + x] = float(gray[size_t(y) * w + (w - 1 - x)]);
-  Imf::Header header(w, h);
-  Imf::FrameBuffer frame;
-  for (const char* name : {"R", "G", "B"}) {
-    header.channels().insert(name, Imf::Channel(Imf::FLOAT));
-    frame.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(flipped.data()), sizeof(float),
-                                  sizeof(float) * size_t(w)));
-  }
-  Imf::OutputFile out(path.c_str(), header);
-  out.setFrameBuffer(frame);
-  out.writePixels(h);
+  exr::Image image = exr::read(path, "pbrt render");
+  const size_t w = size_t(image.width);
+  for (auto& [name, values] : image.floats)
+    for (size_t row = 0; row < values.size(); row += w) std::reverse(values.begin() + row, values.begin() + row + w);
+  exr::write(path, image, "mirrored pbrt render");
 }
 
 std::string read_text(const fs::path& path) {
