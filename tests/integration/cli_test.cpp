@@ -9,24 +9,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/command.h"
 #include "core/exr.h"
 
 namespace {
 
-struct Result {
-  int exit_code;
-  std::string output;  // stdout and stderr
-};
+using Result = furnace::testing_support::CommandResult;
 
+// The furnace CLI with `args`; output is stdout and stderr.
 Result run_cli(const std::string& args) {
-  const std::string cmd = std::string(FURNACE_CLI) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return {-1, "popen failed"};
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return furnace::testing_support::run_command(std::string(FURNACE_CLI) + " " + args + " 2>&1");
 }
 
 std::filesystem::path temp_dir() {
@@ -209,12 +201,9 @@ TEST_F(CheckCommand, JsonHoldsTheVerdictAndZmapTheT) {
   EXPECT_TRUE(z.has_channel("Y"));
   // "-": the JSON on stdout, parseable on its own.
   const std::string cmd = std::string(FURNACE_CLI) + " check --scene " + kDisk + images(kDisk, 2) + " --json - 2>/dev/null";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
-  EXPECT_EQ(WEXITSTATUS(pclose(pipe)), 3);
-  EXPECT_EQ(nlohmann::json::parse(out).at("verdict"), "INCONCLUSIVE");
+  const Result stdout_json = furnace::testing_support::run_command(cmd);
+  EXPECT_EQ(stdout_json.exit_code, 3);
+  EXPECT_EQ(nlohmann::json::parse(stdout_json.output).at("verdict"), "INCONCLUSIVE");
 }
 
 TEST(CliMaxDepth, AcceptsUnlimitedAndRejectsOtherWords) {

@@ -31,6 +31,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "tests/command.h"
 #include "core/exr.h"
 #include "core/scene.h"
 #include "verify/export/pbrt_v4.h"
@@ -60,20 +61,10 @@ std::optional<fs::path> pbrt_binary() {
   return fs::path(path);
 }
 
-struct CommandResult {
-  int exit_code;
-  std::string output;  // stdout and stderr
-};
+using testing_support::CommandResult;
 
-CommandResult run(const std::string& command) {
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return {-1, "popen failed: " + command};
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+// `command` with its stdout and stderr captured.
+CommandResult run(const std::string& command) { return testing_support::run_command(command + " 2>&1"); }
 
 std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 

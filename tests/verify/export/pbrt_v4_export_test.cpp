@@ -1,6 +1,7 @@
 // The pbrt-v4 exporter without pbrt: which scenes it refuses and why, the
 // facts it writes (depth mapping, scale = Le, constant spectra, camera
 // orientation, disk rotations), and that its output appears atomically.
+#include "tests/command.h"
 #include "verify/export/pbrt_v4.h"
 
 #include <gtest/gtest.h>
@@ -310,19 +311,10 @@ TEST_F(PbrtV4ExportFile, UnwritableDestinationThrowsNamingItAndLeavesNothing) {
   EXPECT_TRUE(entries().empty());
 }
 
-struct CliResult {
-  int exit_code;
-  std::string output;
-};
+using CliResult = testing_support::CommandResult;
 
 CliResult run_cli(const std::string& args) {
-  FILE* pipe = popen((std::string(FURNACE_CLI) + " " + args + " 2>&1").c_str(), "r");
-  if (!pipe) return {-1, "popen failed"};
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return testing_support::run_command(std::string(FURNACE_CLI) + " " + args + " 2>&1");
 }
 
 TEST_F(PbrtV4ExportFile, CliExportsAndRefusesWithExitTwo) {
