@@ -41,7 +41,9 @@ bool is_mirror(const Object& o) { return o.material.type == BsdfType::kMirror; }
 Vec3 planar_center(const Shape& s) {
   return std::visit(overloaded{[](const Rectangle& r) { return r.corner + (r.edge_u + r.edge_v) * 0.5; },
                                [](const Disk& d) { return d.center; },
-                               [](const Sphere&) -> Vec3 { FURNACE_CHECK(false && "classify() refuses a sphere before this"); },
+                               [](const Sphere&) -> Vec3 {
+                                 FURNACE_CHECK(false && "classify() refuses a sphere before this");
+                               },
                                [](const Triangle& t) { return (t.p0 + t.p1 + t.p2) / 3.0; }},
                     s);
 }

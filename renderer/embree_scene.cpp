@@ -111,10 +111,11 @@ RTCGeometry make_geometry(RTCDevice device, const Shape& shape) {
 // on it and the front normal) or its sphere.
 EmbreeScene::ExactSurface exact_surface(const Shape& shape) {
   using Plane = EmbreeScene::Plane;
-  return std::visit(overloaded{[](const Rectangle& r) -> EmbreeScene::ExactSurface { return Plane{r.corner, r.normal()}; },
-                               [](const Disk& d) -> EmbreeScene::ExactSurface { return Plane{d.center, d.normal}; },
-                               [](const Sphere& s) -> EmbreeScene::ExactSurface { return s; },
-                               [](const Triangle& t) -> EmbreeScene::ExactSurface { return Plane{t.p0, t.normal()}; }},
+  using Surface = EmbreeScene::ExactSurface;
+  return std::visit(overloaded{[](const Rectangle& r) -> Surface { return Plane{r.corner, r.normal()}; },
+                               [](const Disk& d) -> Surface { return Plane{d.center, d.normal}; },
+                               [](const Sphere& s) -> Surface { return s; },
+                               [](const Triangle& t) -> Surface { return Plane{t.p0, t.normal()}; }},
                     shape);
 }
 
