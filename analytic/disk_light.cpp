@@ -67,7 +67,13 @@ std::optional<DiskLightView> disk_light_view(const Scene& scene, size_t light_in
     const Object& object = scene.objects[j];
     const ZRange z = height_range(object.shape, p, w);
     if (z.hi <= 0 || z.lo >= h) continue;  // entirely below p's plane or beyond the light's plane
-    const Disk* disk = std::get_if<Disk>(&object.shape);
+    // A disk parallel to the light has an exact image; anything else refuses
+    // if it may block.
+    const Disk* disk = std::visit(overloaded{[](const Disk& d) { return &d; },
+                                             [](const Rectangle&) -> const Disk* { return nullptr; },
+                                             [](const Sphere&) -> const Disk* { return nullptr; },
+                                             [](const Triangle&) -> const Disk* { return nullptr; }},
+                                  object.shape);
     if (disk && parallel(disk->normal, emitting_normal)) {
       // Central projection from p onto the light plane: a homothety of ratio h/h_o about p's foot.
       const double scale = h / dot(disk->center - p, w);

@@ -23,22 +23,28 @@ constexpr double kParallelSine = 1e-12;
 double projected_solid_angle(const Scene& scene, size_t object, const Vec3& p, const Vec3& n) {
   const Object& o = scene.objects[object];
   if (height_range(o.shape, p, n).hi <= 0) return 0.0;  // wholly below the horizon
-  if (const auto* r = std::get_if<Rectangle>(&o.shape))
-    return polygon_irradiance({r->corner - p, r->corner + r->edge_u - p, r->corner + r->edge_u + r->edge_v - p,
-                               r->corner + r->edge_v - p},
-                              n);
-  if (const auto* t = std::get_if<Triangle>(&o.shape)) return polygon_irradiance({t->p0 - p, t->p1 - p, t->p2 - p}, n);
-  if (const auto* s = std::get_if<Sphere>(&o.shape)) {
-    if (length(p - s->center) <= s->radius)
-      unsupported_configuration(scene, "a receiving point inside the sphere '" + o.name + "' under an environment");
-    return sphere_irradiance(s->center - p, s->radius, n);
-  }
-  const Disk& d = std::get<Disk>(o.shape);
-  if (length(cross(normalize(d.normal), n)) > kParallelSine)
-    unsupported_configuration(scene, "the disk '" + o.name + "', tilted against the receiver and above its horizon,");
-  const Vec3 offset = d.center - p;
-  const double h = dot(offset, n);
-  return disk_irradiance_parallel(d.radius, h, length(offset - n * h));
+  return std::visit(
+      overloaded{
+          [&](const Rectangle& r) {
+            return polygon_irradiance({r.corner - p, r.corner + r.edge_u - p, r.corner + r.edge_u + r.edge_v - p,
+                                       r.corner + r.edge_v - p},
+                                      n);
+          },
+          [&](const Triangle& t) { return polygon_irradiance({t.p0 - p, t.p1 - p, t.p2 - p}, n); },
+          [&](const Sphere& s) {
+            if (length(p - s.center) <= s.radius)
+              unsupported_configuration(scene, "a receiving point inside the sphere '" + o.name + "' under an environment");
+            return sphere_irradiance(s.center - p, s.radius, n);
+          },
+          [&](const Disk& d) {
+            if (length(cross(normalize(d.normal), n)) > kParallelSine)
+              unsupported_configuration(scene,
+                                        "the disk '" + o.name + "', tilted against the receiver and above its horizon,");
+            const Vec3 offset = d.center - p;
+            const double h = dot(offset, n);
+            return disk_irradiance_parallel(d.radius, h, length(offset - n * h));
+          }},
+      o.shape);
 }
 
 std::vector<size_t> environment_blockers(const Scene& scene, const Vec3& p, const Vec3& n,

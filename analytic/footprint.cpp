@@ -35,45 +35,55 @@ void add_quadratic_roots(double a, double b, double c, std::vector<double>& cuts
 // barycentrics) in u; spheres: the ray–centre distance is quadratic in u.
 std::vector<double> silhouette_crossings(const Scene& scene, const Vec3& o0, const Vec3& du, const Vec3& f) {
   std::vector<double> cuts;
-  for (const Object& object : scene.objects) {
-    if (const auto* s = std::get_if<Sphere>(&object.shape)) {
-      // w(u) = (o0 − c) + du·u with its component along f removed; |w|² = R².
-      const Vec3 w0 = (o0 - s->center) - f * dot(o0 - s->center, f), w1 = du - f * dot(du, f);
-      add_quadratic_roots(dot(w1, w1), 2 * dot(w0, w1), dot(w0, w0) - s->radius * s->radius, cuts);
-      continue;
-    }
-    Vec3 point, m;
-    if (const auto* d = std::get_if<Disk>(&object.shape)) point = d->center, m = d->normal;
-    if (const auto* r = std::get_if<Rectangle>(&object.shape)) point = r->corner, m = cross(r->edge_u, r->edge_v);
-    if (const auto* t = std::get_if<Triangle>(&object.shape)) point = t->p0, m = cross(t->p1 - t->p0, t->p2 - t->p0);
+  // Linear coordinates c(u) = c0 + c1·u of the hit point; roots of c = 0 and c = 1.
+  auto linear = [&](double c0, double c1) {
+    if (c1 == 0) return;
+    cuts.push_back(-c0 / c1);
+    cuts.push_back((1 - c0) / c1);
+  };
+  // The plane through `point` with normal m: the hit point x0 + g·u of the
+  // scan line, or false when the plane is seen edge-on (no area on the image).
+  Vec3 x0, g;
+  auto on_plane = [&](const Vec3& point, const Vec3& m) {
     const double fm = dot(f, m);
-    if (fm == 0) continue;  // seen edge-on: no area on the image plane
-    const Vec3 x0 = o0 + f * (dot(point - o0, m) / fm);
-    const Vec3 g = du - f * (dot(du, m) / fm);
-    if (const auto* d = std::get_if<Disk>(&object.shape)) {
-      const Vec3 e = x0 - d->center;
-      add_quadratic_roots(dot(g, g), 2 * dot(e, g), dot(e, e) - d->radius * d->radius, cuts);
-      continue;
-    }
-    // Linear coordinates c(u) = c0 + c1·u of the hit point; roots of c = 0 and c = 1.
-    auto linear = [&](double c0, double c1) {
-      if (c1 == 0) return;
-      cuts.push_back(-c0 / c1);
-      cuts.push_back((1 - c0) / c1);
-    };
-    const double inv_m2 = 1 / length_squared(m);
-    if (const auto* r = std::get_if<Rectangle>(&object.shape)) {
-      const Vec3 q = x0 - r->corner;
-      linear(dot(cross(q, r->edge_v), m) * inv_m2, dot(cross(g, r->edge_v), m) * inv_m2);
-      linear(dot(cross(r->edge_u, q), m) * inv_m2, dot(cross(r->edge_u, g), m) * inv_m2);
-    } else if (const auto* t = std::get_if<Triangle>(&object.shape)) {
-      const Vec3 e1 = t->p1 - t->p0, e2 = t->p2 - t->p0, q = x0 - t->p0;
-      const double b1_0 = dot(cross(q, e2), m) * inv_m2, b1_1 = dot(cross(g, e2), m) * inv_m2;
-      const double b2_0 = dot(cross(e1, q), m) * inv_m2, b2_1 = dot(cross(e1, g), m) * inv_m2;
-      linear(b1_0, b1_1);
-      linear(b2_0, b2_1);
-      linear(b1_0 + b2_0, b1_1 + b2_1);
-    }
+    if (fm == 0) return false;
+    x0 = o0 + f * (dot(point - o0, m) / fm);
+    g = du - f * (dot(du, m) / fm);
+    return true;
+  };
+  for (const Object& object : scene.objects) {
+    std::visit(
+        overloaded{
+            [&](const Sphere& s) {
+              // w(u) = (o0 − c) + du·u with its component along f removed; |w|² = R².
+              const Vec3 w0 = (o0 - s.center) - f * dot(o0 - s.center, f), w1 = du - f * dot(du, f);
+              add_quadratic_roots(dot(w1, w1), 2 * dot(w0, w1), dot(w0, w0) - s.radius * s.radius, cuts);
+            },
+            [&](const Disk& d) {
+              if (!on_plane(d.center, d.normal)) return;
+              const Vec3 e = x0 - d.center;
+              add_quadratic_roots(dot(g, g), 2 * dot(e, g), dot(e, e) - d.radius * d.radius, cuts);
+            },
+            [&](const Rectangle& r) {
+              const Vec3 m = cross(r.edge_u, r.edge_v);
+              if (!on_plane(r.corner, m)) return;
+              const double inv_m2 = 1 / length_squared(m);
+              const Vec3 q = x0 - r.corner;
+              linear(dot(cross(q, r.edge_v), m) * inv_m2, dot(cross(g, r.edge_v), m) * inv_m2);
+              linear(dot(cross(r.edge_u, q), m) * inv_m2, dot(cross(r.edge_u, g), m) * inv_m2);
+            },
+            [&](const Triangle& t) {
+              const Vec3 m = cross(t.p1 - t.p0, t.p2 - t.p0);
+              if (!on_plane(t.p0, m)) return;
+              const double inv_m2 = 1 / length_squared(m);
+              const Vec3 e1 = t.p1 - t.p0, e2 = t.p2 - t.p0, q = x0 - t.p0;
+              const double b1_0 = dot(cross(q, e2), m) * inv_m2, b1_1 = dot(cross(g, e2), m) * inv_m2;
+              const double b2_0 = dot(cross(e1, q), m) * inv_m2, b2_1 = dot(cross(e1, g), m) * inv_m2;
+              linear(b1_0, b1_1);
+              linear(b2_0, b2_1);
+              linear(b1_0 + b2_0, b1_1 + b2_1);
+            }},
+        object.shape);
   }
   return cuts;
 }
@@ -85,20 +95,25 @@ std::vector<double> silhouette_extremes(const Scene& scene, const Vec3& o_c, con
   std::vector<double> cuts;
   auto v_of = [&](const Vec3& x) { return dot(x - o_c, up) / pixel_height; };
   for (const Object& object : scene.objects) {
-    if (const auto* s = std::get_if<Sphere>(&object.shape)) {
-      cuts.push_back(v_of(s->center) - s->radius / pixel_height);
-      cuts.push_back(v_of(s->center) + s->radius / pixel_height);
-    } else if (const auto* d = std::get_if<Disk>(&object.shape)) {
-      const double nu = dot(normalize(d->normal), up);
-      const double extent = d->radius * std::sqrt(std::fmax(0.0, (1 - nu) * (1 + nu))) / pixel_height;
-      cuts.push_back(v_of(d->center) - extent);
-      cuts.push_back(v_of(d->center) + extent);
-    } else if (const auto* r = std::get_if<Rectangle>(&object.shape)) {
-      for (const Vec3& x : {r->corner, r->corner + r->edge_u, r->corner + r->edge_v, r->corner + r->edge_u + r->edge_v})
-        cuts.push_back(v_of(x));
-    } else if (const auto* t = std::get_if<Triangle>(&object.shape)) {
-      for (const Vec3& x : {t->p0, t->p1, t->p2}) cuts.push_back(v_of(x));
-    }
+    std::visit(overloaded{[&](const Sphere& s) {
+                            cuts.push_back(v_of(s.center) - s.radius / pixel_height);
+                            cuts.push_back(v_of(s.center) + s.radius / pixel_height);
+                          },
+                          [&](const Disk& d) {
+                            const double nu = dot(normalize(d.normal), up);
+                            const double extent = d.radius * std::sqrt(std::fmax(0.0, (1 - nu) * (1 + nu))) / pixel_height;
+                            cuts.push_back(v_of(d.center) - extent);
+                            cuts.push_back(v_of(d.center) + extent);
+                          },
+                          [&](const Rectangle& r) {
+                            for (const Vec3& x :
+                                 {r.corner, r.corner + r.edge_u, r.corner + r.edge_v, r.corner + r.edge_u + r.edge_v})
+                              cuts.push_back(v_of(x));
+                          },
+                          [&](const Triangle& t) {
+                            for (const Vec3& x : {t.p0, t.p1, t.p2}) cuts.push_back(v_of(x));
+                          }},
+               object.shape);
   }
   return cuts;
 }

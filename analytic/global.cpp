@@ -35,15 +35,17 @@ namespace {
                           scene.source, reason));
 }
 
-bool is_planar(const Shape& s) { return !std::holds_alternative<Sphere>(s); }
 bool is_mirror(const Object& o) { return o.material.type == BsdfType::kMirror; }
 
 // The centroid of a planar shape (a point on it, away from its edges).
 Vec3 planar_center(const Shape& s) {
-  if (const auto* r = std::get_if<Rectangle>(&s)) return r->corner + (r->edge_u + r->edge_v) * 0.5;
-  if (const auto* d = std::get_if<Disk>(&s)) return d->center;
-  const auto& t = std::get<Triangle>(s);
-  return (t.p0 + t.p1 + t.p2) / 3.0;
+  return std::visit(overloaded{[](const Rectangle& r) { return r.corner + (r.edge_u + r.edge_v) * 0.5; },
+                               [](const Disk& d) { return d.center; },
+                               [](const Sphere&) -> Vec3 {
+                                 FURNACE_CHECK(false && "classify() refuses a sphere before this");
+                               },
+                               [](const Triangle& t) { return (t.p0 + t.p1 + t.p2) / 3.0; }},
+                    s);
 }
 
 enum class Kind { kEnclosure, kFurnace, kDirectOnly };

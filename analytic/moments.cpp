@@ -45,31 +45,33 @@ double area_kernel(const DiskLightView& v) {
   });
 }
 
-std::vector<Vec3> polygon_vertices_relative(const Shape& shape, const Vec3& p) {
-  if (const auto* r = std::get_if<Rectangle>(&shape))
-    return {r->corner - p, r->corner + r->edge_u - p, r->corner + r->edge_u + r->edge_v - p, r->corner + r->edge_v - p};
-  const auto& t = std::get<Triangle>(shape);
-  return {t.p0 - p, t.p1 - p, t.p2 - p};
+std::vector<Vec3> polygon_vertices_relative(const Rectangle& r, const Vec3& p) {
+  return {r.corner - p, r.corner + r.edge_u - p, r.corner + r.edge_u + r.edge_v - p, r.corner + r.edge_v - p};
 }
+std::vector<Vec3> polygon_vertices_relative(const Triangle& t, const Vec3& p) { return {t.p0 - p, t.p1 - p, t.p2 - p}; }
 
 // ∫_object max(cos θ, 0)² dω: the cos²-weighted solid angle an environment
 // blocker hides from the uniform-hemisphere estimator.
 double blocker_cos2_solid_angle(const Scene& scene, size_t j, const Vec3& p, const Vec3& n) {
   const Object& o = scene.objects[j];
-  if (const auto* s = std::get_if<Sphere>(&o.shape)) return sphere_cos2_solid_angle(s->center - p, s->radius, n);
-  if (const auto* d = std::get_if<Disk>(&o.shape)) {
-    if (length(cross(normalize(d->normal), n)) > 1e-12)
-      unsupported_configuration(scene, "the uniform-hemisphere moment of an environment blocked by the tilted disk '" +
-                                           o.name + "'");
-    const Vec3 offset = d->center - p;
-    const double h = dot(offset, n);
-    const Frame f = Frame::from_normal(n);
-    DiskLightView view;
-    view.h = h;
-    view.light = {dot(offset, f.s), dot(offset, f.t), d->radius};
-    return hemisphere_kernel(view);
-  }
-  return polygon_cos2_solid_angle(polygon_vertices_relative(o.shape, p), n);
+  return std::visit(
+      overloaded{[&](const Sphere& s) { return sphere_cos2_solid_angle(s.center - p, s.radius, n); },
+                 [&](const Disk& d) {
+                   if (length(cross(normalize(d.normal), n)) > 1e-12)
+                     unsupported_configuration(
+                         scene, "the uniform-hemisphere moment of an environment blocked by the tilted disk '" +
+                                    o.name + "'");
+                   const Vec3 offset = d.center - p;
+                   const double h = dot(offset, n);
+                   const Frame f = Frame::from_normal(n);
+                   DiskLightView view;
+                   view.h = h;
+                   view.light = {dot(offset, f.s), dot(offset, f.t), d.radius};
+                   return hemisphere_kernel(view);
+                 },
+                 [&](const Rectangle& r) { return polygon_cos2_solid_angle(polygon_vertices_relative(r, p), n); },
+                 [&](const Triangle& t) { return polygon_cos2_solid_angle(polygon_vertices_relative(t, p), n); }},
+      o.shape);
 }
 
 // Per-emitter kernels: K_hemisphere = ∫_visible cos²θ dω, K_area = ∫_visible (cos θ cos θ'/r²)² dA.
@@ -77,27 +79,32 @@ double emitter_kernel(Strategy estimator, const Scene& scene, size_t i, const Ve
                       std::optional<size_t> receiver) {
   const Object& object = scene.objects[i];
   const bool hemisphere = estimator == Strategy::kUniformHemisphere;
-  if (std::holds_alternative<Disk>(object.shape)) {
-    std::string reason;
-    const auto view = disk_light_view(scene, i, p, n, receiver, &reason);
-    if (view) return hemisphere ? hemisphere_kernel(*view) : area_kernel(*view);
-    if (reason.empty()) return 0.0;
-    if (hemisphere) return planar_light_cos2_solid_angle(scene, i, p, n, receiver);  // exact planar path
-    unsupported_configuration(scene, reason + " (for the light-area second moment)");
-  }
-  if (std::holds_alternative<Sphere>(object.shape)) {
-    if (emitter_irradiance(scene, i, p, n, receiver) == 0) return 0.0;  // nothing of it reaches p
-    require_unoccluded(scene, i, p, n, receiver);
-    const Sphere& sphere = std::get<Sphere>(object.shape);
-    return hemisphere ? sphere_cos2_solid_angle(sphere.center - p, sphere.radius, n)
-                      : sphere_area_kernel(sphere.center - p, sphere.radius, n);
-  }
   // Rectangles and triangles: the exact planar path handles occluders and the
   // horizon for the cos² kernel; the light-area kernel needs an unoccluded light.
-  if (hemisphere) return planar_light_cos2_solid_angle(scene, i, p, n, receiver);
-  if (emitter_irradiance(scene, i, p, n, receiver) == 0) return 0.0;
-  require_unoccluded(scene, i, p, n, receiver);
-  return polygon_area_kernel(polygon_vertices_relative(object.shape, p), n);
+  auto polygon_kernel = [&](const auto& polygon) {
+    if (hemisphere) return planar_light_cos2_solid_angle(scene, i, p, n, receiver);
+    if (emitter_irradiance(scene, i, p, n, receiver) == 0) return 0.0;
+    require_unoccluded(scene, i, p, n, receiver);
+    return polygon_area_kernel(polygon_vertices_relative(polygon, p), n);
+  };
+  return std::visit(
+      overloaded{[&](const Disk&) {
+                   std::string reason;
+                   const auto view = disk_light_view(scene, i, p, n, receiver, &reason);
+                   if (view) return hemisphere ? hemisphere_kernel(*view) : area_kernel(*view);
+                   if (reason.empty()) return 0.0;
+                   if (hemisphere) return planar_light_cos2_solid_angle(scene, i, p, n, receiver);  // exact planar path
+                   unsupported_configuration(scene, reason + " (for the light-area second moment)");
+                 },
+                 [&](const Sphere& sphere) {
+                   if (emitter_irradiance(scene, i, p, n, receiver) == 0) return 0.0;  // nothing of it reaches p
+                   require_unoccluded(scene, i, p, n, receiver);
+                   return hemisphere ? sphere_cos2_solid_angle(sphere.center - p, sphere.radius, n)
+                                     : sphere_area_kernel(sphere.center - p, sphere.radius, n);
+                 },
+                 [&](const Rectangle& r) { return polygon_kernel(r); },
+                 [&](const Triangle& t) { return polygon_kernel(t); }},
+      object.shape);
 }
 
 // Point lights: a light-sampling estimator that picks point light l (pmf P_l)
@@ -134,26 +141,34 @@ double solid_angle_emitter_kernel(const Scene& scene, size_t i, const Vec3& p, c
   auto area_fallback = [&] {
     return shape_area(object.shape) * emitter_kernel(Strategy::kLightArea, scene, i, p, n, receiver);
   };
-  if (std::holds_alternative<Disk>(object.shape)) return area_fallback();
-  if (const auto* r = std::get_if<Rectangle>(&object.shape)) {
-    const double lu = length(r->edge_u), lv = length(r->edge_v);
-    if (!(std::fabs(dot(r->edge_u, r->edge_v)) <= kPerpendicularTolerance * lu * lv)) return area_fallback();
-  }
   // Nothing of it reaches p (behind a one-sided light, edge-on, below the
   // horizon or wholly hidden): every sample is 0, whatever the method.
-  if (emitter_irradiance(scene, i, p, n, receiver) == 0) return 0.0;
-  if (const auto* sphere = std::get_if<Sphere>(&object.shape)) {
-    const Vec3 center = sphere->center - p;
-    const double D = length(center);
-    if (!(D > sphere->radius)) return area_fallback();  // on or inside: the renderer has no cone
-    require_unoccluded(scene, i, p, n, receiver);
-    return sphere_solid_angle(D, sphere->radius) * sphere_cos2_solid_angle(center, sphere->radius, n);
-  }
+  auto reaches_p = [&] { return emitter_irradiance(scene, i, p, n, receiver) != 0; };
   // Triangles and rectangles seen from their emitting side (a two-sided light
   // from behind is sampled as its mirror twin: the same Ω).
-  const double omega = polygon_solid_angle(polygon_vertices_relative(object.shape, p));
-  if (!(omega >= kMinSampledSolidAngle)) return area_fallback();
-  return omega * planar_light_cos2_solid_angle(scene, i, p, n, receiver);
+  auto polygon_kernel = [&](const auto& polygon) {
+    if (!reaches_p()) return 0.0;
+    const double omega = polygon_solid_angle(polygon_vertices_relative(polygon, p));
+    if (!(omega >= kMinSampledSolidAngle)) return area_fallback();
+    return omega * planar_light_cos2_solid_angle(scene, i, p, n, receiver);
+  };
+  return std::visit(
+      overloaded{[&](const Disk&) { return area_fallback(); },
+                 [&](const Rectangle& r) {
+                   const double lu = length(r.edge_u), lv = length(r.edge_v);
+                   if (!(std::fabs(dot(r.edge_u, r.edge_v)) <= kPerpendicularTolerance * lu * lv)) return area_fallback();
+                   return polygon_kernel(r);
+                 },
+                 [&](const Triangle& t) { return polygon_kernel(t); },
+                 [&](const Sphere& sphere) {
+                   if (!reaches_p()) return 0.0;
+                   const Vec3 center = sphere.center - p;
+                   const double D = length(center);
+                   if (!(D > sphere.radius)) return area_fallback();  // on or inside: the renderer has no cone
+                   require_unoccluded(scene, i, p, n, receiver);
+                   return sphere_solid_angle(D, sphere.radius) * sphere_cos2_solid_angle(center, sphere.radius, n);
+                 }},
+      object.shape);
 }
 
 // ---------------------------------------------------------------------------
@@ -299,36 +314,44 @@ MisTerms mis_emitter_terms(const Scene& scene, size_t i, const Vec3& p, const Ve
   double* out[5] = {&terms.bsdf2, &terms.light2, &terms.bsdf1, &terms.light1, &terms.one_sample2};
   for (int k = 0; k < 5; ++k) {
     auto g = [k, beta](double cos_theta, double p_light) { return mis_integrand(k, cos_theta, p_light, beta); };
-    if (const auto* sphere = std::get_if<Sphere>(&object.shape)) {
-      const Vec3 center = sphere->center - p;
-      const double D = length(center);
-      if (!(D > sphere->radius))
-        unsupported_configuration(scene, "a receiving point on or inside the sphere light '" + object.name +
-                                             "' (for the MIS second moment)");
-      const double alpha = std::asin(sphere->radius / D);
-      const SphereRings rings{Frame::from_normal(center / D), n, pmf / sphere_solid_angle(D, sphere->radius)};
-      // Kink where the horizon starts to cut the rings: γ = |π/2 − β|.
-      const double beta_angle = std::atan2(length(cross(n, center)), dot(n, center));
-      *out[k] = ring_integral(0.0, alpha, {std::fabs(kPi / 2 - beta_angle)}, rings, g);
-    } else if (const auto* d = std::get_if<Disk>(&object.shape)) {
-      const Frame f = Frame::from_normal(d->normal);
-      const DiskRings rings{d->center - p, f.s, f.t, d->normal, n, pmf, d->area()};
-      // Kinks in ρ where the horizon starts cutting the rings: |A| = ρ·M.
-      const double A = dot(n, d->center - p), M = std::hypot(dot(n, f.s), dot(n, f.t));
-      std::vector<double> kinks;
-      if (M > 0) kinks.push_back(std::fabs(A) / M);
-      *out[k] = ring_integral(0.0, d->radius, kinks, rings, g);
-    } else {
-      // Rectangles and triangles: the renderer's choice of method (as for kLightSolidAngle).
-      const std::vector<Vec3> vertices = polygon_vertices_relative(object.shape, p);
-      double omega = polygon_solid_angle(vertices);
-      if (const auto* r = std::get_if<Rectangle>(&object.shape)) {
-        const double lu = length(r->edge_u), lv = length(r->edge_v);
-        if (!(std::fabs(dot(r->edge_u, r->edge_v)) <= kPerpendicularTolerance * lu * lv)) omega = 0;
-      }
+    // Rectangles and triangles: the renderer's choice of method (as for
+    // kLightSolidAngle); `perpendicular`: a triangle, or a rectangle whose
+    // spherical map the renderer uses.
+    auto polygon_terms = [&](const std::vector<Vec3>& vertices, bool perpendicular) {
+      double omega = perpendicular ? polygon_solid_angle(vertices) : 0.0;
       if (!(omega >= kMinSampledSolidAngle)) omega = 0;  // area sampling
-      *out[k] = patch_integral_mis(vertices, n, pmf, omega, shape_area(object.shape), g);
-    }
+      return patch_integral_mis(vertices, n, pmf, omega, shape_area(object.shape), g);
+    };
+    *out[k] = std::visit(
+        overloaded{
+            [&](const Sphere& sphere) {
+              const Vec3 center = sphere.center - p;
+              const double D = length(center);
+              if (!(D > sphere.radius))
+                unsupported_configuration(scene, "a receiving point on or inside the sphere light '" + object.name +
+                                                     "' (for the MIS second moment)");
+              const double alpha = std::asin(sphere.radius / D);
+              const SphereRings rings{Frame::from_normal(center / D), n, pmf / sphere_solid_angle(D, sphere.radius)};
+              // Kink where the horizon starts to cut the rings: γ = |π/2 − β|.
+              const double beta_angle = std::atan2(length(cross(n, center)), dot(n, center));
+              return ring_integral(0.0, alpha, {std::fabs(kPi / 2 - beta_angle)}, rings, g);
+            },
+            [&](const Disk& d) {
+              const Frame f = Frame::from_normal(d.normal);
+              const DiskRings rings{d.center - p, f.s, f.t, d.normal, n, pmf, d.area()};
+              // Kinks in ρ where the horizon starts cutting the rings: |A| = ρ·M.
+              const double A = dot(n, d.center - p), M = std::hypot(dot(n, f.s), dot(n, f.t));
+              std::vector<double> kinks;
+              if (M > 0) kinks.push_back(std::fabs(A) / M);
+              return ring_integral(0.0, d.radius, kinks, rings, g);
+            },
+            [&](const Rectangle& r) {
+              const double lu = length(r.edge_u), lv = length(r.edge_v);
+              return polygon_terms(polygon_vertices_relative(r, p),
+                                   std::fabs(dot(r.edge_u, r.edge_v)) <= kPerpendicularTolerance * lu * lv);
+            },
+            [&](const Triangle& t) { return polygon_terms(polygon_vertices_relative(t, p), true); }},
+        object.shape);
   }
   return terms;
 }

@@ -19,12 +19,10 @@ namespace {
 // As in disk_light.cpp: |n₁ × n₂| below this counts as parallel.
 constexpr double kParallelSine = 1e-12;
 
-std::vector<Vec3> polygon_vertices(const Shape& shape) {
-  if (const auto* r = std::get_if<Rectangle>(&shape))
-    return {r->corner, r->corner + r->edge_u, r->corner + r->edge_u + r->edge_v, r->corner + r->edge_v};
-  const auto& t = std::get<Triangle>(shape);
-  return {t.p0, t.p1, t.p2};
+std::vector<Vec3> polygon_vertices(const Rectangle& r) {
+  return {r.corner, r.corner + r.edge_u, r.corner + r.edge_u + r.edge_v, r.corner + r.edge_v};
 }
+std::vector<Vec3> polygon_vertices(const Triangle& t) { return {t.p0, t.p1, t.p2}; }
 
 // The part of a polygon with height z(x) = dot(x − p, w) ≤ h (Sutherland–Hodgman).
 std::vector<Vec3> clip_below(const std::vector<Vec3>& v, const Vec3& p, const Vec3& w, double h) {
@@ -120,12 +118,18 @@ PlanarSetup setup_planar(const Scene& scene, size_t light_index, const Vec3& p, 
                          std::optional<size_t> receiver) {
   PlanarSetup out;
   const Object& light = scene.objects[light_index];
-  const Disk* disk = std::get_if<Disk>(&light.shape);
-  if (std::holds_alternative<Sphere>(light.shape))
-    unsupported_configuration(scene, "the sphere light '" + light.name + "' on the planar-light path");
+  // The light as a disk or a polygon (its vertices).
+  const Disk* disk = nullptr;
+  std::vector<Vec3> light_vertices;
+  std::visit(overloaded{[&](const Disk& d) { disk = &d; },
+                        [&](const Sphere&) {
+                          unsupported_configuration(scene, "the sphere light '" + light.name + "' on the planar-light path");
+                        },
+                        [&](const Rectangle& r) { light_vertices = polygon_vertices(r); },
+                        [&](const Triangle& t) { light_vertices = polygon_vertices(t); }},
+             light.shape);
 
   // Emitting face towards p, height h of p above the light's plane.
-  const std::vector<Vec3> light_vertices = disk ? std::vector<Vec3>{} : polygon_vertices(light.shape);
   const Vec3 on_light = disk ? disk->center : light_vertices[0];
   Vec3 front = disk ? normalize(disk->normal)
                     : normalize(cross(light_vertices[1] - light_vertices[0], light_vertices[2] - light_vertices[0]));
@@ -175,20 +179,26 @@ PlanarSetup setup_planar(const Scene& scene, size_t light_index, const Vec3& p, 
     const ZRange z = height_range(object.shape, p, w);
     if (z.hi <= 0 || z.lo >= h) continue;  // behind p's parallel plane or beyond the light's
     if (!ball_may_meet_ball_cone(bounding_sphere(object.shape), p, light_ball)) continue;
-    const Disk* occluder_disk = std::get_if<Disk>(&object.shape);
+    // The occluder as a disk or a polygon (its vertices); neither for a sphere.
+    const Disk* occluder_disk = nullptr;
+    std::vector<Vec3> occluder_vertices;
+    std::visit(overloaded{[&](const Disk& d) { occluder_disk = &d; }, [](const Sphere&) {},
+                          [&](const Rectangle& r) { occluder_vertices = polygon_vertices(r); },
+                          [&](const Triangle& t) { occluder_vertices = polygon_vertices(t); }},
+               object.shape);
     if (occluder_disk && length(cross(normalize(occluder_disk->normal), front)) <= kParallelSine) {
       const double scale = h / dot(occluder_disk->center - p, w);
       const Point2 c = to_2d(p + (occluder_disk->center - p) * scale);
       occluders.push_back({{}, Circle2{c.x, c.y, occluder_disk->radius * scale}});
       continue;
     }
-    if (std::holds_alternative<Rectangle>(object.shape) || std::holds_alternative<Triangle>(object.shape)) {
+    if (!occluder_vertices.empty()) {
       // Keep only the part inside the pyramid from p over the light's bounding
       // square (it contains every segment from p to the light, so the rest
       // blocks nothing); its only point at p's height is p itself, so an
       // occluder standing on the receiver plane away from p projects to a
       // bounded polygon.
-      std::vector<Vec3> clipped = clip_below(polygon_vertices(object.shape), p, w, h);
+      std::vector<Vec3> clipped = clip_below(occluder_vertices, p, w, h);
       for (int k = 0; k < 4 && clipped.size() >= 3; ++k)
         clipped = clip_by_plane_through_p(clipped, p, pyramid[k], pyramid[(k + 1) % 4], light_centre);
       if (clipped.size() < 3) continue;  // outside the pyramid: blocks nothing

@@ -42,21 +42,22 @@ namespace {
 // The two corners of the axis-aligned box around a shape.
 std::pair<Vec3, Vec3> shape_box(const Shape& shape) {
   auto ball = [](const Vec3& c, double r) { return std::make_pair(c - Vec3(r, r, r), c + Vec3(r, r, r)); };
-  if (const auto* d = std::get_if<Disk>(&shape)) return ball(d->center, d->radius);
-  if (const auto* s = std::get_if<Sphere>(&shape)) return ball(s->center, s->radius);
-  std::vector<Vec3> v;
-  if (const auto* r = std::get_if<Rectangle>(&shape))
-    v = {r->corner, r->corner + r->edge_u, r->corner + r->edge_v, r->corner + r->edge_u + r->edge_v};
-  else {
-    const auto& t = std::get<Triangle>(shape);
-    v = {t.p0, t.p1, t.p2};
-  }
-  Vec3 lo = v[0], hi = v[0];
-  for (const Vec3& q : v) {
-    lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
-    hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
-  }
-  return {lo, hi};
+  auto box = [](const std::vector<Vec3>& v) {
+    Vec3 lo = v[0], hi = v[0];
+    for (const Vec3& q : v) {
+      lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
+      hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
+    }
+    return std::make_pair(lo, hi);
+  };
+  return std::visit(
+      overloaded{[&](const Disk& d) { return ball(d.center, d.radius); },
+                 [&](const Sphere& s) { return ball(s.center, s.radius); },
+                 [&](const Rectangle& r) {
+                   return box({r.corner, r.corner + r.edge_u, r.corner + r.edge_v, r.corner + r.edge_u + r.edge_v});
+                 },
+                 [&](const Triangle& t) { return box({t.p0, t.p1, t.p2}); }},
+      shape);
 }
 
 double bounding_radius(const Scene& scene) {

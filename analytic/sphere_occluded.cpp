@@ -268,26 +268,37 @@ double occluded_sphere_irradiance(const Sphere& light, const std::vector<Shape>&
   if (unoccluded == 0) return 0.0;
   std::vector<Blocker> blockers;
   for (const Shape& shape : occluders) {
-    Blocker b;
-    if (const auto* r = std::get_if<Rectangle>(&shape)) {
-      b.polygon = {r->corner - p, r->corner + r->edge_u - p, r->corner + r->edge_u + r->edge_v - p,
-                   r->corner + r->edge_v - p};
-      const double size = length(r->edge_u) + length(r->edge_v);
-      if (std::fabs(dot(r->normal(), b.polygon[0])) <= kEdgeOn * size) continue;
-    } else if (const auto* t = std::get_if<Triangle>(&shape)) {
-      b.polygon = {t->p0 - p, t->p1 - p, t->p2 - p};
-      const double size = length(t->p1 - t->p0) + length(t->p2 - t->p0);
-      if (std::fabs(dot(t->normal(), b.polygon[0])) <= kEdgeOn * size) continue;
-    } else if (const auto* d = std::get_if<Disk>(&shape)) {
-      b.is_disk = true;
-      b.disk_center = d->center - p;
-      b.disk_normal = d->normal;
-      b.disk_radius = d->radius;
-      if (std::fabs(dot(d->normal, b.disk_center)) <= kEdgeOn * d->radius) continue;
-    } else {
-      throw Error("occluded_sphere_irradiance: a sphere occluder is outside what this reference solves.");
-    }
-    blockers.push_back(std::move(b));
+    // The blocker, or nothing for one seen edge-on from p.
+    std::optional<Blocker> blocker = std::visit(
+        overloaded{[&](const Rectangle& r) -> std::optional<Blocker> {
+                     Blocker b;
+                     b.polygon = {r.corner - p, r.corner + r.edge_u - p, r.corner + r.edge_u + r.edge_v - p,
+                                  r.corner + r.edge_v - p};
+                     const double size = length(r.edge_u) + length(r.edge_v);
+                     if (std::fabs(dot(r.normal(), b.polygon[0])) <= kEdgeOn * size) return std::nullopt;
+                     return b;
+                   },
+                   [&](const Triangle& t) -> std::optional<Blocker> {
+                     Blocker b;
+                     b.polygon = {t.p0 - p, t.p1 - p, t.p2 - p};
+                     const double size = length(t.p1 - t.p0) + length(t.p2 - t.p0);
+                     if (std::fabs(dot(t.normal(), b.polygon[0])) <= kEdgeOn * size) return std::nullopt;
+                     return b;
+                   },
+                   [&](const Disk& d) -> std::optional<Blocker> {
+                     Blocker b;
+                     b.is_disk = true;
+                     b.disk_center = d.center - p;
+                     b.disk_normal = d.normal;
+                     b.disk_radius = d.radius;
+                     if (std::fabs(dot(d.normal, b.disk_center)) <= kEdgeOn * d.radius) return std::nullopt;
+                     return b;
+                   },
+                   [](const Sphere&) -> std::optional<Blocker> {
+                     throw Error("occluded_sphere_irradiance: a sphere occluder is outside what this reference solves.");
+                   }},
+        shape);
+    if (blocker) blockers.push_back(std::move(*blocker));
   }
   const ConeIntegrand g(light, std::move(blockers), p, n);
   // Breakpoints in [φ₀, φ₀ + 2π) with φ₀ = 0; kink azimuths wrapped into it.
@@ -319,7 +330,7 @@ double sphere_light_irradiance(const Scene& scene, size_t emitter, const Vec3& p
     const Object& object = scene.objects[j];
     if (height_range(object.shape, p, n).hi <= 0) continue;
     if (!ball_may_meet_ball_cone(bounding_sphere(object.shape), p, light_ball)) continue;
-    if (std::holds_alternative<Sphere>(object.shape))
+    if (!is_planar(object.shape))
       unsupported_configuration(scene, "object '" + object.name + "', which may block part of the emitter '" +
                                            light.name + "' where only planar occluders of a sphere light are solved,");
     occluders.push_back(object.shape);

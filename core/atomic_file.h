@@ -1,6 +1,6 @@
 // Atomic file output: every file furnace writes (reports, EXR images, JSON
 // verdicts) goes through here, so a failed or interrupted write never leaves
-// a half-written file under the target name (STYLE.md, error tier 1).
+// a half-written file under the target name (error tier 1, core/error.h).
 //
 // Protocol: a fresh temporary file is created in the target's directory
 // (same file system, so the final rename is atomic) under a name no other

@@ -1,4 +1,4 @@
-// The three error tiers of furnace (see STYLE.md):
+// The three error tiers of furnace:
 //  1. bad user input  -> throw furnace::Error with a full sentence naming
 //     file, field and value; the CLI prints it and exits non-zero;
 //  2. internal invariants -> FURNACE_CHECK (always on) / FURNACE_DCHECK (debug);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/environment_map.h"
+#include "core/overloaded.h"
 #include "core/vec3.h"
 
 namespace furnace {
@@ -45,7 +46,18 @@ struct Triangle {
   double area() const { return 0.5 * length(cross(p1 - p0, p2 - p0)); }
 };
 
+// Code that branches on the kind of shape does so with
+// std::visit(overloaded{...}, shape) and one case per alternative
+// (core/overloaded.h), so a new alternative fails to compile until every
+// such branch handles it.
 using Shape = std::variant<Rectangle, Disk, Sphere, Triangle>;
+
+// Whether the shape lies in one plane (every shape but the sphere).
+inline bool is_planar(const Shape& shape) {
+  return std::visit(overloaded{[](const Rectangle&) { return true; }, [](const Disk&) { return true; },
+                               [](const Sphere&) { return false; }, [](const Triangle&) { return true; }},
+                    shape);
+}
 
 enum class BsdfType { kLambertian, kMirror, kPhong };
 

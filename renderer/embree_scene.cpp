@@ -107,12 +107,16 @@ RTCGeometry make_geometry(RTCDevice device, const Shape& shape) {
   return std::visit(Visitor{device}, shape);
 }
 
-// A point on the plane of a flat shape, for double-precision refinement.
-std::optional<Vec3> plane_point(const Shape& shape) {
-  if (const auto* r = std::get_if<Rectangle>(&shape)) return r->corner;
-  if (const auto* d = std::get_if<Disk>(&shape)) return d->center;
-  if (const auto* t = std::get_if<Triangle>(&shape)) return t->p0;
-  return std::nullopt;
+// The exact surface a shape's hits are refined against: its plane (a point
+// on it and the front normal) or its sphere.
+EmbreeScene::ExactSurface exact_surface(const Shape& shape) {
+  using Plane = EmbreeScene::Plane;
+  using Surface = EmbreeScene::ExactSurface;
+  return std::visit(overloaded{[](const Rectangle& r) -> Surface { return Plane{r.corner, r.normal()}; },
+                               [](const Disk& d) -> Surface { return Plane{d.center, d.normal}; },
+                               [](const Sphere& s) -> Surface { return s; },
+                               [](const Triangle& t) -> Surface { return Plane{t.p0, t.normal()}; }},
+                    shape);
 }
 
 RTCRay make_ray(const Vec3& origin, const Vec3& direction, double t_max) {
@@ -166,7 +170,7 @@ struct EmbreeScene::RayQuery {
 
 EmbreeDevice::EmbreeDevice() : error_(std::make_unique<ErrorRecord>()) {
   // Default configuration: a device created with threads=1 would throttle TBB
-  // for the whole process (TOOLCHAIN.md); render() uses tbb::global_control.
+  // for the whole process; render() uses tbb::global_control.
   device_ = rtcNewDevice(nullptr);
   if (!device_) {
     throw Error(fmt::format("cannot create the Embree device: {}.", error_name(rtcGetDeviceError(nullptr))));
@@ -196,8 +200,7 @@ EmbreeScene::EmbreeScene(const EmbreeDevice& device, const Scene& scene) : devic
     rtcAttachGeometryByID(rtc_scene_, geom, static_cast<unsigned>(i));  // geomID == object index
     rtcReleaseGeometry(geom);
     object_extent_.push_back(extent_of(scene.objects[i].shape));
-    plane_point_.push_back(plane_point(scene.objects[i].shape));
-    plane_normal_.push_back(plane_point_.back() ? shape_normal(scene.objects[i].shape, *plane_point_.back()) : Vec3{});
+    surface_.push_back(exact_surface(scene.objects[i].shape));
   }
   rtcCommitScene(rtc_scene_);
   try {
@@ -234,46 +237,45 @@ bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, double t_m
 }
 
 SurfaceHit EmbreeScene::refine(size_t object, const Vec3& origin, const Vec3& direction, double t_float) const {
-  const Shape& shape = scene_.objects[object].shape;
   SurfaceHit hit;
   hit.object = object;
   hit.t = t_float;
-  if (const auto& q = plane_point_[object]) {
-    // Planar: recompute the distance to the exact plane in double precision.
-    const Vec3& n = plane_normal_[object];
-    const double denom = dot(direction, n);
-    if (denom != 0) hit.t = dot(*q - origin, n) / denom;
-    hit.point = origin + direction * hit.t;
-    hit.point -= n * dot(hit.point - *q, n);  // remove the last rounding off the plane
-    hit.normal = n;
-  } else {
-    // Sphere: both roots in double precision (the discriminant as
-    // r² − |oc − (oc·d)d|², which does not cancel), keeping the one Embree
-    // found; then a radial projection removes the last rounding off the sphere.
-    const Sphere& s = std::get<Sphere>(shape);
-    const Vec3 oc = origin - s.center;
-    const double b = dot(oc, direction);
-    const double disc = s.radius * s.radius - length_squared(oc - direction * b);
-    const double root = std::sqrt(std::fmax(disc, 0.0));  // grazing hits: round-off below 0
-    const double t_near = -b - root, t_far = -b + root;
-    hit.t = std::fabs(t_near - t_float) <= std::fabs(t_far - t_float) ? t_near : t_far;
-    const Vec3 n = normalize(origin + direction * hit.t - s.center);
-    hit.point = s.center + n * s.radius;
-    hit.normal = n;
-  }
+  std::visit(overloaded{[&](const Plane& plane) {
+                          // Recompute the distance to the exact plane in double precision.
+                          const Vec3& q = plane.point;
+                          const Vec3& n = plane.normal;
+                          const double denom = dot(direction, n);
+                          if (denom != 0) hit.t = dot(q - origin, n) / denom;
+                          hit.point = origin + direction * hit.t;
+                          hit.point -= n * dot(hit.point - q, n);  // remove the last rounding off the plane
+                          hit.normal = n;
+                        },
+                        [&](const Sphere& s) {
+                          // Both roots in double precision (the discriminant as
+                          // r² − |oc − (oc·d)d|², which does not cancel), keeping the one
+                          // Embree found; then a radial projection removes the last
+                          // rounding off the sphere.
+                          const Vec3 oc = origin - s.center;
+                          const double b = dot(oc, direction);
+                          const double disc = s.radius * s.radius - length_squared(oc - direction * b);
+                          const double root = std::sqrt(std::fmax(disc, 0.0));  // grazing hits: round-off below 0
+                          const double t_near = -b - root, t_far = -b + root;
+                          hit.t = std::fabs(t_near - t_float) <= std::fabs(t_far - t_float) ? t_near : t_far;
+                          const Vec3 n = normalize(origin + direction * hit.t - s.center);
+                          hit.point = s.center + n * s.radius;
+                          hit.normal = n;
+                        }},
+             surface_[object]);
   hit.front_facing = dot(direction, hit.normal) < 0;
   return hit;
 }
 
-double EmbreeScene::spawn_offset(size_t, const Vec3&) const { return 0.0; }
-
-Vec3 EmbreeScene::spawn_origin(size_t, const Vec3& point, const Vec3&, const Vec3&) const { return point; }
-
 bool EmbreeScene::on_surface(size_t object, const Vec3& x) const {
   const double tolerance = kOnSurfaceRelative * (max_abs_component(x) + object_extent_[object]);
-  if (const auto& q = plane_point_[object]) return std::fabs(dot(x - *q, plane_normal_[object])) <= tolerance;
-  const Sphere& s = std::get<Sphere>(scene_.objects[object].shape);
-  return std::fabs(length(x - s.center) - s.radius) <= tolerance;
+  return std::visit(
+      overloaded{[&](const Plane& plane) { return std::fabs(dot(x - plane.point, plane.normal)) <= tolerance; },
+                 [&](const Sphere& s) { return std::fabs(length(x - s.center) - s.radius) <= tolerance; }},
+      surface_[object]);
 }
 
 bool EmbreeScene::is_endpoint_surface(size_t object, const RayQuery& query, double t_candidate) const {
@@ -286,10 +288,12 @@ bool EmbreeScene::is_endpoint_surface(size_t object, const RayQuery& query, doub
   // A ray leaving a plane never meets it again, nor one leaving a sphere
   // outwards; a ray entering a sphere meets it again only at the far end of
   // its chord, at t = −2·(o − c)·d: reject what lies before the chord's middle.
-  if (plane_point_[object]) return true;
-  const Sphere& s = std::get<Sphere>(scene_.objects[object].shape);
-  const double half_chord = -dot(query.origin - s.center, query.direction);
-  return !(half_chord > 0 && t_candidate > half_chord);
+  return std::visit(overloaded{[](const Plane&) { return true; },
+                               [&](const Sphere& s) {
+                                 const double half_chord = -dot(query.origin - s.center, query.direction);
+                                 return !(half_chord > 0 && t_candidate > half_chord);
+                               }},
+                    surface_[object]);
 }
 
 void EmbreeScene::filter(const RTCFilterFunctionNArguments* args) {

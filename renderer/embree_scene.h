@@ -8,8 +8,8 @@
 // intersection filter functions reject the surface a ray starts on (and the
 // one a shadow ray ends on) by an exact test in double precision, so no
 // epsilon scaled by the coordinates' magnitude moves the ray (an offset of
-// 32 float ulps of |p| biased scenes far from the origin by several percent:
-// tests/integration/stability_test.cpp).
+// 32 float ulps of |p| would bias scenes far from the origin by several
+// percent; tests/integration/stability_test.cpp renders such scenes).
 #pragma once
 
 #include <cstddef>
@@ -17,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <embree3/rtcore.h>
@@ -69,15 +70,16 @@ class EmbreeScene {
   // True if anything lies on the open segment origin + t·direction, t in (0, t_max).
   bool occluded(const Vec3& origin, const Vec3& direction, double t_max) const;
 
-  // Origin for a ray leaving `point` on `object` towards `direction`: the
-  // point itself (the filter functions keep the ray off its own surface).
-  Vec3 spawn_origin(size_t object, const Vec3& point, const Vec3& normal, const Vec3& direction) const;
-  // Distance by which spawn_origin moves the point: 0 (exposed for tests).
-  double spawn_offset(size_t object, const Vec3& point) const;
-
   const Scene& scene() const { return scene_; }
   // The committed Embree scene, for raw-throughput benchmarks only.
   RTCScene rtc_scene() const { return rtc_scene_; }
+
+  // The exact surface hits are refined against: a flat shape's plane (a
+  // point on it and its front normal) or a sphere.
+  struct Plane {
+    Vec3 point, normal;
+  };
+  using ExactSurface = std::variant<Plane, Sphere>;
 
  private:
   SurfaceHit refine(size_t object, const Vec3& origin, const Vec3& direction, double t_float) const;
@@ -92,8 +94,7 @@ class EmbreeScene {
   const Scene& scene_;
   RTCScene rtc_scene_ = nullptr;
   std::vector<double> object_extent_;  // largest |coordinate| of each object's bounding box
-  std::vector<std::optional<Vec3>> plane_point_;  // a point on each flat object's plane (empty: sphere)
-  std::vector<Vec3> plane_normal_;                // its front normal, computed once
+  std::vector<ExactSurface> surface_;  // each object's exact surface, computed once
 };
 
 }  // namespace furnace

@@ -85,12 +85,13 @@ inline double pdf_in_weight(double pdf_solid_angle, Defect defect) {
   return defect == Defect::kPdfOffByConstant ? kDefectPdfFactor * pdf_solid_angle : pdf_solid_angle;
 }
 
-// Traces the ray of a sampled direction from the shading point; returns the
-// first hit (empty on escape). Counts one ray.
+// Traces the ray of a sampled direction from the shading point itself (the
+// scene's intersection filter keeps it off the surface it leaves); returns
+// the first hit (empty on escape). Counts one ray.
 inline std::optional<SurfaceHit> trace_from(const EmbreeScene& scene, const ShadingContext& ctx, const Vec3& wi_world,
                                             TraceCounters& counters) {
   ++counters.rays;
-  return scene.intersect(scene.spawn_origin(ctx.object, ctx.point, ctx.normal, wi_world), wi_world);
+  return scene.intersect(ctx.point, wi_world);
 }
 
 // MIS weight of strategy a against b (one sample each), β = 1 (balance) or 2 (power).

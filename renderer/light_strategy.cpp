@@ -16,6 +16,7 @@ namespace {
 // function of (shape, viewpoint, mode) only, so sample() and pdf() agree.
 
 struct ConeSetup {
+  Sphere sphere;
   Frame frame;  // z towards the sphere's centre
   ConeAperture aperture;
 };
@@ -34,26 +35,30 @@ double light_cosine(const Vec3& light_normal, const Vec3& wi, bool two_sided) {
 EmitterMethod emitter_method(const Object& emitter, const Vec3& p, EmitterSampling mode, bool self) {
   const Shape& shape = emitter.shape;
   if (mode == EmitterSampling::kArea || self) return std::monostate{};
-  if (const auto* s = std::get_if<Sphere>(&shape)) {
-    const Vec3 to_center = s->center - p;
-    const double d2 = length_squared(to_center);
-    const double r2 = s->radius * s->radius;
-    if (!(d2 > r2)) return std::monostate{};  // inside or on the sphere: no cone, area sampling
-    return ConeSetup{Frame::from_normal(to_center / std::sqrt(d2)), ConeAperture::from_sin2(r2 / d2)};
-  }
   // A two-sided planar light seen from behind is sampled as its mirror-oriented twin.
-  if (const auto* t = std::get_if<Triangle>(&shape)) {
-    const bool flip = emitter.two_sided && dot(p - t->p0, t->normal()) < 0;
-    if (auto sampler = SphericalTriangleSampler::make(flip ? Triangle{t->p0, t->p2, t->p1} : *t, p)) return *sampler;
-    return std::monostate{};
-  }
-  if (const auto* r = std::get_if<Rectangle>(&shape)) {
-    const bool flip = emitter.two_sided && dot(p - r->corner, r->normal()) < 0;
-    if (auto sampler = SphericalRectangleSampler::make(flip ? Rectangle{r->corner, r->edge_v, r->edge_u} : *r, p))
-      return *sampler;
-    return std::monostate{};
-  }
-  return std::monostate{};  // disks: no exact solid-angle map is used; area sampling
+  return std::visit(
+      overloaded{
+          [&](const Sphere& s) -> EmitterMethod {
+            const Vec3 to_center = s.center - p;
+            const double d2 = length_squared(to_center);
+            const double r2 = s.radius * s.radius;
+            if (!(d2 > r2)) return std::monostate{};  // inside or on the sphere: no cone, area sampling
+            return ConeSetup{s, Frame::from_normal(to_center / std::sqrt(d2)), ConeAperture::from_sin2(r2 / d2)};
+          },
+          [&](const Triangle& t) -> EmitterMethod {
+            const bool flip = emitter.two_sided && dot(p - t.p0, t.normal()) < 0;
+            if (auto sampler = SphericalTriangleSampler::make(flip ? Triangle{t.p0, t.p2, t.p1} : t, p)) return *sampler;
+            return std::monostate{};
+          },
+          [&](const Rectangle& r) -> EmitterMethod {
+            const bool flip = emitter.two_sided && dot(p - r.corner, r.normal()) < 0;
+            if (auto sampler = SphericalRectangleSampler::make(flip ? Rectangle{r.corner, r.edge_v, r.edge_u} : r, p))
+              return *sampler;
+            return std::monostate{};
+          },
+          // No exact solid-angle map of a disk is used: area sampling.
+          [](const Disk&) -> EmitterMethod { return std::monostate{}; }},
+      shape);
 }
 
 // Density in solid angle of direction wi from p reaching the emitter at
@@ -61,17 +66,20 @@ EmitterMethod emitter_method(const Object& emitter, const Vec3& p, EmitterSampli
 // The one helper both LightStrategy::sample and LightStrategy::pdf use.
 double emitter_pdf_solid_angle(const EmitterMethod& method, const Object& emitter, const Vec3& p, const Vec3& wi,
                                const Vec3& point, const Vec3& normal) {
-  if (std::holds_alternative<std::monostate>(method)) {
-    const double cos_light = light_cosine(normal, wi, emitter.two_sided);
-    return solid_angle_pdf_from_area(shape_area_pdf(emitter.shape), length_squared(point - p), cos_light);
-  }
   // The solid-angle methods exist only for viewpoints in front of the light
   // (emitter_method), so every direction they cover meets its emitting side;
-  // no cos θ' test here, which round-off would fail at a sphere's silhouette.
-  if (const auto* cone = std::get_if<ConeSetup>(&method))
-    return uniform_cone_pdf(cone->frame.local_from_world(wi), cone->aperture);
-  if (const auto* tri = std::get_if<SphericalTriangleSampler>(&method)) return tri->pdf();
-  return std::get<SphericalRectangleSampler>(method).pdf();
+  // no cos θ' test for them, which round-off would fail at a sphere's silhouette.
+  return std::visit(overloaded{[&](std::monostate) {
+                                 const double cos_light = light_cosine(normal, wi, emitter.two_sided);
+                                 return solid_angle_pdf_from_area(shape_area_pdf(emitter.shape),
+                                                                  length_squared(point - p), cos_light);
+                               },
+                               [&](const ConeSetup& cone) {
+                                 return uniform_cone_pdf(cone.frame.local_from_world(wi), cone.aperture);
+                               },
+                               [](const SphericalTriangleSampler& tri) { return tri.pdf(); },
+                               [](const SphericalRectangleSampler& rect) { return rect.pdf(); }},
+                    method);
 }
 
 struct EmitterPoint {
@@ -109,19 +117,23 @@ std::optional<EmitterPoint> intersect_plane(const Vec3& plane_point, const Vec3&
 // A point on the emitter by `method`.
 std::optional<EmitterPoint> sample_emitter_point(const EmitterMethod& method, const Shape& shape, const Vec3& p,
                                                  double u1, double u2) {
-  if (std::holds_alternative<std::monostate>(method)) {
-    const AreaSample a = sample_shape_area(shape, u1, u2);
-    return EmitterPoint{a.point, a.normal, std::nullopt};
-  }
-  if (const auto* cone = std::get_if<ConeSetup>(&method)) {
-    const Vec3 w = cone->frame.world_from_local(sample_uniform_cone(u1, u2, cone->aperture));
-    return intersect_sphere(std::get<Sphere>(shape), p, w);
-  }
-  if (const auto* tri = std::get_if<SphericalTriangleSampler>(&method)) {
-    return intersect_plane(tri->triangle.p0, tri->triangle.normal(), p, tri->sample(u1, u2));
-  }
-  const auto& rect = std::get<SphericalRectangleSampler>(method);
-  return EmitterPoint{rect.sample_point(u1, u2), std::get<Rectangle>(shape).normal(), std::nullopt};
+  return std::visit(
+      overloaded{[&](std::monostate) -> std::optional<EmitterPoint> {
+                   const AreaSample a = sample_shape_area(shape, u1, u2);
+                   return EmitterPoint{a.point, a.normal, std::nullopt};
+                 },
+                 [&](const ConeSetup& cone) {
+                   const Vec3 w = cone.frame.world_from_local(sample_uniform_cone(u1, u2, cone.aperture));
+                   return intersect_sphere(cone.sphere, p, w);
+                 },
+                 [&](const SphericalTriangleSampler& tri) {
+                   return intersect_plane(tri.triangle.p0, tri.triangle.normal(), p, tri.sample(u1, u2));
+                 },
+                 [&](const SphericalRectangleSampler& rect) -> std::optional<EmitterPoint> {
+                   const Vec3 point = rect.sample_point(u1, u2);
+                   return EmitterPoint{point, shape_normal(shape, point), std::nullopt};
+                 }},
+      method);
 }
 
 }  // namespace
@@ -145,7 +157,7 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     s.wi_world = to_light / std::sqrt(distance_squared);
     s.delta = true;
     s.radiance = point.intensity / distance_squared;
-    s.shadow_origin = scene->spawn_origin(ctx.object, ctx.point, ctx.normal, s.wi_world);
+    s.shadow_origin = ctx.point;
     const Vec3 segment = point.position - s.shadow_origin;
     s.shadow_t_max = length(segment);
     if (!(s.shadow_t_max > 0)) return std::nullopt;
@@ -172,7 +184,7 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     }
     s.pdf_solid_angle = pmf * environment_pdf;
     s.radiance = environment_radiance(scene->scene().environment, s.wi_world);
-    s.shadow_origin = scene->spawn_origin(ctx.object, ctx.point, ctx.normal, s.wi_world);
+    s.shadow_origin = ctx.point;
     s.shadow_direction = s.wi_world;
     s.shadow_t_max = std::numeric_limits<double>::infinity();
     pdf_for_weight = pmf_in_weight * environment_pdf;
@@ -181,7 +193,7 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     const Object& emitter = scene->scene().objects[object];
     const bool self = object == ctx.object;
     // A flat light cannot light its own points (they see it edge-on).
-    if (self && !std::holds_alternative<Sphere>(emitter.shape)) return std::nullopt;
+    if (self && is_planar(emitter.shape)) return std::nullopt;
     const EmitterMethod method = emitter_method(emitter, ctx.point, emitter_sampling, self);
     const auto q = sample_emitter_point(method, emitter.shape, ctx.point, u[1], u[2]);
     if (!q) return std::nullopt;
@@ -197,10 +209,10 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     if (defect == Defect::kDropLightCosine && std::holds_alternative<std::monostate>(method) &&
         light_cosine(q->normal, s.wi_world, emitter.two_sided) > 0)
       pdf_for_weight = pmf_in_weight * solid_angle_pdf_from_area(shape_area_pdf(emitter.shape), distance_squared, 1.0);
-    // Shadow ray between the two offset surface points, so neither end hits its own surface.
-    s.shadow_origin = scene->spawn_origin(ctx.object, ctx.point, ctx.normal, s.wi_world);
-    const Vec3 target = scene->spawn_origin(object, q->point, q->normal, -s.wi_world);
-    const Vec3 segment = target - s.shadow_origin;
+    // Shadow ray between the two surface points themselves: the scene's
+    // intersection filter keeps it off the surfaces at both ends (embree_scene.h).
+    s.shadow_origin = ctx.point;
+    const Vec3 segment = q->point - s.shadow_origin;
     s.shadow_t_max = length(segment);
     s.shadow_direction = segment / s.shadow_t_max;
   }
@@ -225,7 +237,7 @@ double LightStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_world, const
   const Object& o = scene->scene().objects[hit->object];
   if (!o.is_emitter() || !(hit->front_facing || o.two_sided)) return 0.0;
   const bool self = hit->object == ctx.object;
-  if (self && !std::holds_alternative<Sphere>(o.shape)) return 0.0;  // as in sample()
+  if (self && is_planar(o.shape)) return 0.0;  // as in sample()
   const EmitterMethod method = emitter_method(o, ctx.point, emitter_sampling, self);
   return pmf * emitter_pdf_solid_angle(method, o, ctx.point, wi_world, hit->point, hit->normal);
 }

@@ -40,19 +40,21 @@ void grow_box(const Shape& shape, Vec3& lo, Vec3& hi) {
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   };
-  if (const auto* r = std::get_if<Rectangle>(&shape)) {
-    for (const Vec3& p : {r->corner, r->corner + r->edge_u, r->corner + r->edge_v, r->corner + r->edge_u + r->edge_v})
-      add(p);
-  } else if (const auto* d = std::get_if<Disk>(&shape)) {
-    add(d->center - Vec3(d->radius, d->radius, d->radius));  // the disk's ball bounds it
-    add(d->center + Vec3(d->radius, d->radius, d->radius));
-  } else if (const auto* s = std::get_if<Sphere>(&shape)) {
-    add(s->center - Vec3(s->radius, s->radius, s->radius));
-    add(s->center + Vec3(s->radius, s->radius, s->radius));
-  } else {
-    const auto& t = std::get<Triangle>(shape);
-    for (const Vec3& p : {t.p0, t.p1, t.p2}) add(p);
-  }
+  auto add_ball = [&](const Vec3& c, double r) {
+    add(c - Vec3(r, r, r));
+    add(c + Vec3(r, r, r));
+  };
+  std::visit(overloaded{[&](const Rectangle& r) {
+                          for (const Vec3& p : {r.corner, r.corner + r.edge_u, r.corner + r.edge_v,
+                                                r.corner + r.edge_u + r.edge_v})
+                            add(p);
+                        },
+                        [&](const Disk& d) { add_ball(d.center, d.radius); },  // the disk's ball bounds it
+                        [&](const Sphere& s) { add_ball(s.center, s.radius); },
+                        [&](const Triangle& t) {
+                          for (const Vec3& p : {t.p0, t.p1, t.p2}) add(p);
+                        }},
+             shape);
 }
 
 // Radius of the scene's bounding sphere: half the diagonal of the box of
@@ -105,8 +107,8 @@ size_t LightSet::light_of_object(size_t object) const {
 }
 
 size_t LightSet::select(double u) const {
-  // Uniform: the direct formula (bit-identical to the uniform selection of
-  // earlier versions); min(): u·count can round up to count for u just below 1.
+  // Uniform: the direct formula ⌊u·count⌋; min(): u·count can round up to
+  // count for u just below 1.
   if (selection == LightSelection::kUniform) return std::min(size_t(u * double(count())), count() - 1);
   // Power: the first light whose CDF exceeds u (lights of pmf 0 are never chosen).
   const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);

@@ -1,4 +1,4 @@
-// Iterative unidirectional path tracers (issue 5).
+// Iterative unidirectional path tracers.
 //
 //  - naive: BSDF sampling only, emission (and the environment) counted where
 //    a path hits it;

@@ -38,7 +38,8 @@ Image render(const Scene& scene, const RenderOptions& options) {
   if (options.max_depth < 1)
     throw Error(fmt::format("render option max_depth must be at least 1, got {}.", options.max_depth));
 
-  // Thread count via TBB (never via the Embree device config, see TOOLCHAIN.md).
+  // Thread count via TBB, never via the Embree device config (a device
+  // created with threads=1 would limit TBB for the whole process).
   std::optional<tbb::global_control> thread_limit;
   if (options.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(options.threads));
 

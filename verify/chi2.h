@@ -1,7 +1,7 @@
 // Pearson chi-square goodness-of-fit tests for samplers: do samples drawn by
 // a warp follow the density its pdf() claims?
 //
-// Recipe (STYLE.md; the idea of Mitsuba's chi2.py and Nori's chi2test):
+// Recipe (the idea of Mitsuba's chi2.py and Nori's chi2test):
 //  - histogram the samples on a grid of equal-area cells; on the sphere the
 //    cells are equal steps in φ (an odd number of them) and in t = 1 − cos θ
 //    (dΩ = dφ·dt, so equal steps are equal solid angles);
@@ -105,7 +105,7 @@ Chi2Result chi2_from_counts(const std::vector<double>& observed, const std::vect
 // Directions on the sphere, a hemisphere or a cone around +z.
 
 struct SphericalGrid {
-  int phi_bins = 41;  // odd (STYLE.md): no cell edge on the symmetry planes φ = 0, π/2, π
+  int phi_bins = 41;  // odd: no cell edge on the symmetry planes φ = 0, π/2, π
   int t_bins = 20;    // rows of equal height in t = 1 − cos θ ∈ [0, t_max]
   double t_max = 2;   // 2 sphere, 1 upper hemisphere, 1 − cos θmax a cone (pass it accurately for tiny cones)
 

@@ -31,8 +31,8 @@ inline constexpr double kDefaultPower = 1.0 - kDefaultBeta;
 
 // A zero-variance estimator (e.g. cone sampling of an unoccluded sphere light)
 // must reproduce the reference exactly, up to float geometry: Embree hits are
-// within ~2 float steps of the exact distance (TOOLCHAIN.md), and the hit point
-// enters the estimate through squared distances, cosines and a solid angle,
+// within ~2 float steps of the exact distance, and the hit point enters the
+// estimate through squared distances, cosines and a solid angle,
 // each multiplying the relative error by a small factor. 64 float epsilons
 // (7.6e-6) covers that chain with margin, yet is far below any bias a
 // statistical test at realistic sample counts could resolve.

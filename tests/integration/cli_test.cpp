@@ -115,8 +115,8 @@ class CheckCommand : public testing::Test {
 
 const std::string kDisk = std::string(FURNACE_SCENE_DIR) + "/disk_occluder.json";
 
-// Contract change (issue 10): PASS now needs power. At 64 spp eight renders
-// detect only ~1.1 % (INCONCLUSIVE); at 256 spp ~0.5 %.
+// PASS needs power. At 64 spp eight renders detect only ~1.1 %
+// (INCONCLUSIVE); at 256 spp ~0.5 %.
 TEST_F(CheckCommand, IndependentCorrectRendersPass) {
   const Result r = run_cli("check --scene " + kDisk + images(kDisk, 8));
   EXPECT_EQ(r.exit_code, 0) << r.output;
@@ -169,7 +169,7 @@ TEST_F(CheckCommand, ImagesOfAnotherSceneAreWarnedAbout) {
 }
 
 // A closed enclosure is checked against its full global illumination by
-// default (it failed against direct lighting before issue 10); --max-depth 2
+// default (against direct lighting a path tracer fails); --max-depth 2
 // asks for direct lighting, which a path tracer without a depth limit must
 // fail. The ρ = 0.5 box: shorter paths than enclosure_box, so eight 256-spp
 // renders take 2 s and detect ~0.3 %.

@@ -33,11 +33,9 @@ constexpr int kBetaBalance = 1, kBetaPower = 2;
 // Weights are ratios of doubles: their sum is 1 within a few rounding steps.
 constexpr double kWeightSumTolerance = 8 * std::numeric_limits<double>::epsilon();
 // The density MIS recomputes for a light sample's direction uses the point
-// the ray finds, and that ray leaves from the spawn origin (pushed off the
-// surface along the normal), not from the shading point: on an area-sampled
-// disk light it lands a spawn offset away from the sampled point, and
-// r²/cos θ' moves by O(offset/r) (measured worst 1.6e-5 relative on
-// three_lights). 1e-3 leaves margin yet catches any wrong factor.
+// the traced ray finds (Embree's single-precision hit refined in double), not
+// the sampled point, so r²/cos θ' differ by round-off. 1e-3 leaves margin yet
+// catches any wrong factor.
 constexpr double kPdfRelTolerance = 1e-3;
 // Pixel grid stride of the identity checks (every 4th pixel each way of 32×32).
 constexpr int kStride = 4;
@@ -99,8 +97,8 @@ WeightCensus weight_census(int beta, Defect defect) {
           const MisPdfs pdfs = direct.mis_pdfs(ctx, s->wi_world, found);
           // Unoccluded and the traced ray finds the same kind of light (an
           // emitter for an emitter sample, nothing for an environment sample):
-          // its density must be the sampler's. A ray from the spawn origin can
-          // miss an emitter whose silhouette the sample grazed; counted apart.
+          // its density must be the sampler's. A ray traced in single precision
+          // can miss an emitter whose silhouette the sample grazed; counted apart.
           const bool environment_sample = std::isinf(s->shadow_t_max);
           const bool visible = light_visible(rtc, *s, counters) && emitted_radiance_towards(scene, found, s->wi_world) > 0;
           if (visible && environment_sample != !found.has_value()) ++census.silhouette_misses;

@@ -77,9 +77,9 @@ Verdict run_and_print(const Case& c) {
 // is float round-off (~1e-17), and verify::run_case's image-mean z-test then
 // fails on the last-bit difference between the renderer's running sum and
 // the closed form's expm1 (z ≈ −1106 for a difference of 1e-16 relative).
-// Reported to the lead (verify/ is not ours); here such a case must instead
-// match exactly within stats::kZeroVarianceRelTolerance, as the harness
-// already requires of its zero-variance pixels.
+// Here such a case must instead match exactly within
+// stats::kZeroVarianceRelTolerance, as the harness requires of its
+// zero-variance pixels.
 bool zero_variance(const Verdict& v) { return v.detectable_rel_bias < stats::kZeroVarianceRelTolerance; }
 
 void expect_pass(const Verdict& v) {

@@ -1,5 +1,5 @@
 // Numerical stability of the whole pipeline (loader, Embree geometry with
-// double refinement, ray offsets, light sampling, exact references) on hard
+// double refinement, self-intersection filtering, light sampling, exact references) on hard
 // cases: the built-in scenes scaled by 10⁻⁴ … 10⁴ and moved far from the
 // origin, and lights that are tiny and far, nearly touching, or grazing.
 //

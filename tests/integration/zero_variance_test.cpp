@@ -1,4 +1,4 @@
-// Zero variance wherever the sampling is exact (STYLE.md battery item 5),
+// Zero variance wherever the sampling is exact,
 // end to end through render() and through the light strategy:
 //  1. a Lambertian floor (ρ) under an unblocked constant sky (L): cosine
 //     sampling gives Y = (ρ/π)·π·L = ρ·L in every sample; so do bsdf

@@ -177,7 +177,7 @@ TEST_P(EnvironmentSamplerChi2, SampleCarriesPdfOfItsDirection) {
 }
 
 // The mean of 1/pdf over samples estimates the measure of the support,
-// Σ_{L_ij > 0} Ω_ij (STYLE.md battery item 3): a z-test with the sample
+// Σ_{L_ij > 0} Ω_ij (the normalisation check): a z-test with the sample
 // standard deviation at the same per-test level as the chi-square (for the
 // constant map 1/pdf = 4π exactly and the check is exact up to round-off).
 TEST_P(EnvironmentSamplerChi2, MeanInversePdfIsSupportSolidAngle) {

@@ -55,7 +55,7 @@ bool reflects(const Object& o) { return o.material.albedo > 0; }
 bool is_reflecting_mirror(const Object& o) { return reflects(o) && o.material.type == BsdfType::kMirror; }
 
 std::optional<std::string> mirror_refusal(const Scene& scene, const Object& mirror) {
-  if (std::holds_alternative<Sphere>(mirror.shape))
+  if (!is_planar(mirror.shape))
     return fmt::format("the mirror '{}' is a sphere, which camera rays meet at oblique incidence", mirror.name);
   if (mirror.material.albedo > kPbrtMaxConductorReflectance)
     return fmt::format("the mirror '{}' has reflectance {}, above the {} to which pbrt clamps a conductor",
@@ -199,7 +199,7 @@ bool direct_lighting_is_complete(const Scene& scene) {
   for (const Object& o : scene.objects) {
     if (!reflects(o)) continue;
     ++reflecting;
-    if (o.material.type != BsdfType::kLambertian || std::holds_alternative<Sphere>(o.shape)) return false;
+    if (o.material.type != BsdfType::kLambertian || !is_planar(o.shape)) return false;
   }
   return reflecting <= 1;
 }
