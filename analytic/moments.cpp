@@ -12,6 +12,7 @@
 #include "analytic/disk_light.h"
 #include "analytic/emitter.h"
 #include "analytic/light_moments.h"
+#include "analytic/phong.h"
 #include "analytic/planar_light.h"
 #include "analytic/environment.h"
 #include "analytic/polygon_patch.h"
@@ -515,6 +516,13 @@ double pixel_center_second_moment(Strategy strategy, const Scene& scene, int px,
   const double cos_view = dot(ray.direction, hit->normal);
   const double le = (cos_view < 0 || object.two_sided) ? object.emitted_radiance : 0.0;
   if (object.material.albedo == 0) return le * le;
+  if (object.material.type == BsdfType::kPhong) {
+    // Y_px = Le + Y with Y the glossy estimator (phong.h), emission constant.
+    const Vec3 n = cos_view < 0 ? hit->normal : -hit->normal;
+    const double e = phong_reflected_radiance(scene, hit->point, n, -ray.direction, hit->object_index);
+    return le * le + 2 * le * e +
+           phong_second_moment(strategy, scene, hit->point, n, -ray.direction, hit->object_index, selection);
+  }
   if (object.material.type != BsdfType::kLambertian)
     unsupported_configuration(scene, "a camera ray hitting the non-Lambertian, non-black object '" + object.name + "'");
   const Vec3 n = cos_view < 0 ? hit->normal : -hit->normal;

@@ -99,6 +99,9 @@ double second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const
 // Second moment of the pixel estimator the renderer averages at the centre of
 // pixel (px, py): Y_px = Le + (ρ/π)·Y at a Lambertian hit, so
 //   E[Y_px²] = Le² + 2·Le·(ρ/π)·E + (ρ/π)²·E[Y²];
+// at a Phong hit Y_px = Le + Y with Y the glossy estimator of phong.h
+// (phong_second_moment, which takes the strategy itself: bsdf sampling is the
+// lobe there, not cosine sampling);
 // a miss sees the environment: E[Y_px²] = L_env² (zero variance).
 double pixel_center_second_moment(Strategy strategy, const Scene& scene, int px, int py,
                                   LightSelection selection = LightSelection::kUniform);

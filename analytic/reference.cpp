@@ -10,6 +10,7 @@
 #include "analytic/emitter.h"
 #include "analytic/environment.h"
 #include "analytic/intersect.h"
+#include "analytic/phong.h"
 #include "analytic/point_light.h"
 #include "core/error.h"
 
@@ -51,6 +52,10 @@ double ray_radiance(const Scene& scene, const Vec3& origin, const Vec3& directio
   // Emission leaves the front face only, both faces of a two_sided object.
   const double le = (cos_view < 0 || object.two_sided) ? object.emitted_radiance : 0.0;
   if (object.material.albedo == 0) return le;
+  // A glossy receiver: the lobe integrated over the lights (phong.h), normal facing the viewer.
+  if (object.material.type == BsdfType::kPhong)
+    return le + phong_reflected_radiance(scene, hit->point, cos_view < 0 ? hit->normal : -hit->normal, -ray.direction,
+                                         hit->object_index);
   if (object.material.type != BsdfType::kLambertian)
     unsupported_configuration(scene, "a camera ray hitting the non-Lambertian, non-black object '" + object.name + "'");
   // Two-sided Lambertian: shade with the normal facing the viewer.

@@ -41,7 +41,8 @@ double irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optiona
 
 // Radiance the camera sees through the centre of pixel (px, py) for direct
 // lighting only: Le(x) + (ρ/π)·E(x) at the first hit x of a Lambertian
-// surface; the environment radiance on a miss.
+// surface, Le(x) + phong_reflected_radiance (phong.h) at a Phong surface;
+// the environment radiance on a miss.
 double pixel_center_radiance(const Scene& scene, int px, int py);
 
 // The same quantity for any camera ray (origin, unit direction): what

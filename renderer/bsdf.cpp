@@ -46,7 +46,10 @@ double PhongBsdf::eval(const Vec3& wo_local, const Vec3& wi_local) const {
   if (!(wo_local.z > 0 && wi_local.z > 0)) return 0.0;
   const double cos_alpha = phong_cos_alpha(wo_local, wi_local);
   if (!(cos_alpha > 0)) return 0.0;
-  return albedo * (exponent + 2.0) / kTwoPi * std::pow(cos_alpha, exponent);
+  // DEFECT(phong_wrong_normalisation): the lobe density's (n+1)/(2π), which loses 1/(n+2) of the albedo.
+  const double normalisation = defect == Defect::kPhongWrongNormalisation ? (exponent + 1.0) / kTwoPi
+                                                                          : (exponent + 2.0) / kTwoPi;
+  return albedo * normalisation * std::pow(cos_alpha, exponent);
 }
 std::optional<BsdfSample> PhongBsdf::sample(const Vec3& wo_local, double u1, double u2) const {
   if (!(wo_local.z > 0)) return std::nullopt;
@@ -67,7 +70,7 @@ double Bsdf::eval(const Vec3& wo_local, const Vec3& wi_local) const {
   switch (material->type) {
     case BsdfType::kLambertian: return LambertianBsdf{material->albedo}.eval(wo_local, wi_local);
     case BsdfType::kMirror: return MirrorBsdf{material->albedo}.eval(wo_local, wi_local);
-    case BsdfType::kPhong: return PhongBsdf{material->albedo, material->phong_exponent}.eval(wo_local, wi_local);
+    case BsdfType::kPhong: return PhongBsdf{material->albedo, material->phong_exponent, defect}.eval(wo_local, wi_local);
   }
   return 0.0;
 }
@@ -75,7 +78,7 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& wo_local, double u1, double u
   switch (material->type) {
     case BsdfType::kLambertian: return LambertianBsdf{material->albedo}.sample(wo_local, u1, u2);
     case BsdfType::kMirror: return MirrorBsdf{material->albedo}.sample(wo_local, u1, u2);
-    case BsdfType::kPhong: return PhongBsdf{material->albedo, material->phong_exponent}.sample(wo_local, u1, u2);
+    case BsdfType::kPhong: return PhongBsdf{material->albedo, material->phong_exponent, defect}.sample(wo_local, u1, u2);
   }
   return std::nullopt;
 }
@@ -83,7 +86,7 @@ double Bsdf::pdf(const Vec3& wo_local, const Vec3& wi_local) const {
   switch (material->type) {
     case BsdfType::kLambertian: return LambertianBsdf{material->albedo}.pdf(wo_local, wi_local);
     case BsdfType::kMirror: return MirrorBsdf{material->albedo}.pdf(wo_local, wi_local);
-    case BsdfType::kPhong: return PhongBsdf{material->albedo, material->phong_exponent}.pdf(wo_local, wi_local);
+    case BsdfType::kPhong: return PhongBsdf{material->albedo, material->phong_exponent, defect}.pdf(wo_local, wi_local);
   }
   return 0.0;
 }

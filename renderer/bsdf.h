@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "core/scene.h"
+#include "core/strategy.h"
 #include "renderer/sampling.h"
 
 namespace furnace {
@@ -45,10 +46,12 @@ struct MirrorBsdf {
 // f = ρ·(n+2)/(2π)·cos^n α, α the angle between wi and the mirror direction of
 // wo; its albedo at normal incidence is exactly ρ. Sampling: the lobe
 // (n+1)/(2π)·cos^n α around the mirror direction; directions below the horizon
-// are a failed sample.
+// are a failed sample. DEFECT(phong_wrong_normalisation) evaluates f with
+// (n+1)/(2π), the sampling density's constant, in place of (n+2)/(2π).
 struct PhongBsdf {
   double albedo = 0;
   double exponent = 1;
+  Defect defect = Defect::kNone;
   double eval(const Vec3& wo_local, const Vec3& wi_local) const;
   std::optional<BsdfSample> sample(const Vec3& wo_local, double u1, double u2) const;
   // Density in solid angle (sr⁻¹): the lobe density on wi.z > 0, 0 below.
@@ -58,6 +61,7 @@ struct PhongBsdf {
 // Dispatch over the scene's material types.
 struct Bsdf {
   const Material* material = nullptr;
+  Defect defect = Defect::kNone;  // negative controls only (PhongBsdf)
 
   bool is_delta() const { return material->type == BsdfType::kMirror; }
   bool is_black() const { return !(material->albedo > 0); }

@@ -32,7 +32,9 @@ struct ShadingContext {
   Vec3 wo_local;
   Bsdf bsdf;
 
-  static ShadingContext at(const SurfaceHit& hit, const Vec3& wo_world, const Material& material) {
+  // `defect`: a negative control that lives in the BSDF (none by default).
+  static ShadingContext at(const SurfaceHit& hit, const Vec3& wo_world, const Material& material,
+                           Defect defect = Defect::kNone) {
     ShadingContext c;
     c.object = hit.object;
     c.point = hit.point;
@@ -40,7 +42,7 @@ struct ShadingContext {
     c.frame = Frame::from_normal(dot(hit.normal, wo_world) >= 0 ? hit.normal : -hit.normal);
     c.wo_world = wo_world;
     c.wo_local = c.frame.local_from_world(wo_world);
-    c.bsdf = Bsdf{&material};
+    c.bsdf = Bsdf{&material, defect};
     return c;
   }
 };

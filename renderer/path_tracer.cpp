@@ -47,7 +47,7 @@ double PathTracer::radiance(const Vec3& direction, const std::optional<SurfaceHi
     if (!hit || depth >= max_depth_) break;
 
     const Object& object = scene.objects[hit->object];
-    const ShadingContext ctx = ShadingContext::at(*hit, -wi_world, object.material);
+    const ShadingContext ctx = ShadingContext::at(*hit, -wi_world, object.material, defect_);
     if (ctx.bsdf.is_black()) break;
 
     if (next_event_ && !ctx.bsdf.is_delta()) {

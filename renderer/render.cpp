@@ -77,7 +77,7 @@ Image render(const Scene& scene, const RenderOptions& options) {
       const std::optional<SurfaceHit> hit = rtc_scene.intersect(ray.origin, ray.direction);
       const double le = emitted_radiance_towards(scene, hit, ray.direction);
       std::optional<ShadingContext> ctx;
-      if (hit) ctx = ShadingContext::at(*hit, -ray.direction, scene.objects[hit->object].material);
+      if (hit) ctx = ShadingContext::at(*hit, -ray.direction, scene.objects[hit->object].material, options.defect);
       PixelMoments& moments = image.pixels[pixel];
       for (int s = 0; s < options.spp; ++s) {
         Rng rng(options.seed, pixel, uint64_t(s));

@@ -49,6 +49,13 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
   std::vector<Strategy> delta_aware;
   for (Strategy s : everything)
     if (strategy_sees_delta_lights(s)) delta_aware.push_back(s);
+  // Glossy receivers (Phong n = 10 and 100): the strategies whose estimate
+  // involves the lobe's value (hemisphere sampling adds only power-less rows;
+  // under the constant sky light_area samples exactly like light_solid_angle).
+  const std::vector<Strategy> glossy_sphere = {Strategy::kLightArea, Strategy::kLightSolidAngle, Strategy::kBsdf,
+                                               Strategy::kMisBalance, Strategy::kMisPower, Strategy::kMisOneSample};
+  const std::vector<Strategy> glossy_sky = {Strategy::kLightSolidAngle, Strategy::kBsdf, Strategy::kMisBalance,
+                                            Strategy::kMisPower, Strategy::kMisOneSample};
   const std::vector<Entry> entries = {
       {"disk_occluder.json", everything, kUnlimitedDepth},
       {"sphere_light.json", direct, kUnlimitedDepth},
@@ -72,6 +79,8 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
       {"enclosure_sphere.json", paths, kUnlimitedDepth},
       {"enclosure_blockers.json", paths, kUnlimitedDepth},
       {"mirror_disk.json", paths, kUnlimitedDepth},
+      {"glossy_sphere_light.json", glossy_sphere, kUnlimitedDepth},
+      {"glossy_environment.json", glossy_sky, kUnlimitedDepth},
   };
   std::vector<Case> cases;
   for (const Entry& e : entries) {
