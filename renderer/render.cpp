@@ -38,6 +38,15 @@ Image render(const Scene& scene, const RenderOptions& options) {
   if (options.max_depth < 1)
     throw Error(fmt::format("render option max_depth must be at least 1, got {}.", options.max_depth));
 
+  // load_scene() bounds the pixel count (scene_limits::kMaxPixels); a scene
+  // built in code is held to the same memory budget before allocating.
+  if (scene.camera.width_px < 1 || scene.camera.height_px < 1 ||
+      uint64_t(scene.camera.width_px) * uint64_t(scene.camera.height_px) > scene_limits::kMaxPixels)
+    throw Error(fmt::format("scene '{}': camera resolution {}x{} is outside [1, {}] pixels (the {} GiB budget at {} "
+                            "bytes per pixel).", scene.source.empty() ? scene.name : scene.source, scene.camera.width_px,
+                            scene.camera.height_px, scene_limits::kMaxPixels, scene_limits::kPixelMemoryBudget >> 30,
+                            scene_limits::kBytesPerPixel));
+
   // Thread count via TBB (never via the Embree device config, see TOOLCHAIN.md).
   std::optional<tbb::global_control> thread_limit;
   if (options.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(options.threads));
