@@ -136,6 +136,7 @@ enum class Defect {
   kPowerSelectionUniformPmf,
   kOneSampleNoSelectionProb,
   kEnvMissingSinTheta,
+  kNanSample,
 };
 
 struct DefectInfo {
@@ -143,7 +144,7 @@ struct DefectInfo {
   const char* name;
   const char* description;
 };
-inline constexpr std::array<DefectInfo, 11> kDefectTable = {{
+inline constexpr std::array<DefectInfo, 12> kDefectTable = {{
     {Defect::kNone, "none", "the renderer as it is"},
     {Defect::kDropLightCosine, "drop_light_cosine", "light_area forgets cos θ' (the area to solid angle Jacobian)"},
     {Defect::kPdfOffByConstant, "pdf_off_by_constant", "the weight divides by 1.1 × the true pdf"},
@@ -162,6 +163,7 @@ inline constexpr std::array<DefectInfo, 11> kDefectTable = {{
      "mis_one_sample divides by p_bsdf + p_light, forgetting the selection probabilities c and 1 − c"},
     {Defect::kEnvMissingSinTheta, "env_missing_sin_theta",
      "environment-map rows chosen without the sin θ Jacobian while the weight uses the stated density"},
+    {Defect::kNanSample, "nan_sample", "one sample in 1024 runs away to NaN (counted, and a failure by default)"},
 }};
 constexpr bool every_defect_has_one_row() {
   for (size_t v = 0; v < kDefectTable.size(); ++v) {

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include <fmt/format.h>
@@ -92,6 +93,9 @@ Image render(const Scene& scene, const RenderOptions& options) {
         double y;
         if (path) y = path_tracer.radiance(ray.direction, hit, rng, c);
         else y = ctx ? le + direct.estimate(*ctx, rng, c) : le;
+        // DEFECT(nan_sample): a fixed 1/1024 of the (pixel, sample) pairs runs away.
+        if (options.defect == Defect::kNanSample && (pixel + size_t(s)) % 1024 == 0)
+          y = std::numeric_limits<double>::quiet_NaN();
         if (std::isfinite(y)) moments.add(y);
         else ++bad;  // error tier 3: dropped and counted
       }
