@@ -4,6 +4,7 @@
 // radiance in W·m⁻²·sr⁻¹, lengths in scene units, reflectance dimensionless.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -132,8 +133,64 @@ struct Scene {
   bool closed = false;
 };
 
+// The ranges load_scene() enforces (README.md's field table states them).
+// Every number of a scene file is finite and inside these bounds, so that the
+// renderer's double arithmetic, Embree's float rays and the exact references
+// all stay finite and accurate; anything outside is refused, never clamped.
+namespace scene_limits {
+// |coordinate| of every point (camera centre, corners, centres, vertices,
+// point-light positions). Embree intersects in float: a sphere test forms
+// fourth powers of coordinates, 1e24 here against float's 3.4e38 (at 1e10
+// they overflow), and ray origins stay far inside Embree's valid range
+// (|x| < 1.8e19). The stability tests move scenes to 2e3 and scale them to 1e4.
+inline constexpr double kMaxCoordinate = 1e6;
+// Lengths (radii, edge vectors' components, camera size): from 1e-6 (twelve
+// decades around the unit scale; the stability tests scale to 1e-4) up to
+// the width of the coordinate range.
+inline constexpr double kMinLength = 1e-6;
+inline constexpr double kMaxLength = 2 * kMaxCoordinate;
+// A length smaller than this fraction of its shape's largest coordinate spans
+// fewer than 8 float steps (float's spacing is at most 2^-23 of a value):
+// Embree's float geometry cannot resolve it, so the shape is degenerate.
+inline constexpr double kMinRelativeLength = 0x1p-20;
+// The sine of the angle between two edges (rectangle, triangle) or between the
+// camera's forward and up: below it the two are parallel within the same
+// float round-off (8 float steps of 2^-23).
+inline constexpr double kMinSine = 1e-6;
+// Directions (normals, forward, up) are normalised on load; their components
+// are bounded like coordinates, and a vector shorter than this is a zero
+// vector written with round-off.
+inline constexpr double kMinDirectionLength = 1e-6;
+// Radiance (emission, environment radiance times its largest map texel) in
+// W·m⁻²·sr⁻¹ and point-light intensity in W·sr⁻¹: 0 (absent) or in
+// [kMinRadiometric, kMaxRadiometric]. The top is five times the sun's
+// radiance (2e7); its square, the scale of a second moment, is 1e16, leaving
+// 22 decades of float (the EXR channels) and 290 of double for geometric
+// factors. The bottom keeps light powers, and the power-selection
+// probabilities made from them, normal doubles (no denormals, no underflow).
+inline constexpr double kMinRadiometric = 1e-6;
+inline constexpr double kMaxRadiometric = 1e8;
+// Normalised Phong exponent n: the BSDF chi-square tests cover n ≤ 1000; 1e4
+// (lobe width ≈ 1/√n = 0.01 rad) is ten times that; a sharper lobe is a mirror.
+inline constexpr double kMaxPhongExponent = 1e4;
+// Pixels per image side.
+inline constexpr int kMaxResolution = 16384;
+// Memory: a render holds per pixel its running moments (40 bytes) and a
+// verification run adds the reference, the predicted variance, the per-pixel
+// test results and the image-mean inputs; kBytesPerPixel bounds the whole
+// (measured peak resident memory of `furnace verify` per pixel, with margin).
+// A camera needing more than kPixelMemoryBudget is refused on load.
+inline constexpr uint64_t kBytesPerPixel = 512;
+inline constexpr uint64_t kPixelMemoryBudget = uint64_t(2) << 30;  // 2 GiB
+inline constexpr uint64_t kMaxPixels = kPixelMemoryBudget / kBytesPerPixel;
+}  // namespace scene_limits
+
 // Parses a scene file. Throws furnace::Error with a sentence naming the file,
-// the field and the offending value on any malformed or unphysical input.
+// the field (its JSON path, e.g. objects[2].shape.radius) and the offending
+// value on any malformed or unphysical input: invalid JSON, a number beyond
+// double range, a wrong type, a missing, unknown (misspelt: the closest known
+// name is suggested) or duplicated field, a number outside scene_limits, or
+// geometry degenerate within round-off.
 Scene load_scene(const std::filesystem::path& path);
 // Same, from JSON text; `source` names the text in error messages.
 Scene parse_scene(const std::string& json_text, const std::string& source);

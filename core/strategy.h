@@ -137,6 +137,7 @@ enum class Defect {
   kOneSampleNoSelectionProb,
   kEnvMissingSinTheta,
   kPhongWrongNormalisation,
+  kNanSample,
 };
 
 struct DefectInfo {
@@ -144,7 +145,7 @@ struct DefectInfo {
   const char* name;
   const char* description;
 };
-inline constexpr std::array<DefectInfo, 12> kDefectTable = {{
+inline constexpr std::array<DefectInfo, 13> kDefectTable = {{
     {Defect::kNone, "none", "the renderer as it is"},
     {Defect::kDropLightCosine, "drop_light_cosine", "light_area forgets cos θ' (the area to solid angle Jacobian)"},
     {Defect::kPdfOffByConstant, "pdf_off_by_constant", "the weight divides by 1.1 × the true pdf"},
@@ -165,6 +166,7 @@ inline constexpr std::array<DefectInfo, 12> kDefectTable = {{
      "environment-map rows chosen without the sin θ Jacobian while the weight uses the stated density"},
     {Defect::kPhongWrongNormalisation, "phong_wrong_normalisation",
      "Phong eval normalised by (n+1)/(2π), the sampling density's constant, instead of (n+2)/(2π)"},
+    {Defect::kNanSample, "nan_sample", "one sample in 1024 runs away to NaN (counted, and a failure by default)"},
 }};
 constexpr bool every_defect_has_one_row() {
   for (size_t v = 0; v < kDefectTable.size(); ++v) {

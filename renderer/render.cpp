@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include <fmt/format.h>
@@ -37,6 +38,15 @@ Image render(const Scene& scene, const RenderOptions& options) {
     throw Error(fmt::format("render option threads must be 0 (all) or positive, got {}.", options.threads));
   if (options.max_depth < 1)
     throw Error(fmt::format("render option max_depth must be at least 1, got {}.", options.max_depth));
+
+  // load_scene() bounds the pixel count (scene_limits::kMaxPixels); a scene
+  // built in code is held to the same memory budget before allocating.
+  if (scene.camera.width_px < 1 || scene.camera.height_px < 1 ||
+      uint64_t(scene.camera.width_px) * uint64_t(scene.camera.height_px) > scene_limits::kMaxPixels)
+    throw Error(fmt::format("scene '{}': camera resolution {}x{} is outside [1, {}] pixels (the {} GiB budget at {} "
+                            "bytes per pixel).", scene.source.empty() ? scene.name : scene.source, scene.camera.width_px,
+                            scene.camera.height_px, scene_limits::kMaxPixels, scene_limits::kPixelMemoryBudget >> 30,
+                            scene_limits::kBytesPerPixel));
 
   // Thread count via TBB, never via the Embree device config (a device
   // created with threads=1 would limit TBB for the whole process).
@@ -84,6 +94,9 @@ Image render(const Scene& scene, const RenderOptions& options) {
         double y;
         if (path) y = path_tracer.radiance(ray.direction, hit, rng, c);
         else y = ctx ? le + direct.estimate(*ctx, rng, c) : le;
+        // DEFECT(nan_sample): a fixed 1/1024 of the (pixel, sample) pairs runs away.
+        if (options.defect == Defect::kNanSample && (pixel + size_t(s)) % 1024 == 0)
+          y = std::numeric_limits<double>::quiet_NaN();
         if (std::isfinite(y)) moments.add(y);
         else ++bad;  // error tier 3: dropped and counted
       }

@@ -1,8 +1,6 @@
 #include "verify/analytic_query.h"
 
 #include <cmath>
-#include <cstdlib>
-#include <sstream>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -13,22 +11,6 @@
 #include "core/strategy.h"
 
 namespace furnace::verify {
-
-Vec3 parse_vec3_option(const std::string& text, const std::string& option) {
-  std::stringstream ss(text);
-  std::string item;
-  double v[3];
-  int count = 0;
-  while (std::getline(ss, item, ',')) {
-    char* end = nullptr;
-    const double x = std::strtod(item.c_str(), &end);
-    if (count == 3 || item.empty() || *end != '\0' || !std::isfinite(x))
-      throw Error(fmt::format("option {} must be three finite numbers x,y,z, got \"{}\".", option, text));
-    v[count++] = x;
-  }
-  if (count != 3) throw Error(fmt::format("option {} must be three finite numbers x,y,z, got \"{}\".", option, text));
-  return {v[0], v[1], v[2]};
-}
 
 namespace {
 
@@ -51,6 +33,10 @@ std::string answer_analytic_query(const Scene& scene, const AnalyticQuery& q, bo
   const double albedo = q.albedo ? *q.albedo : (receiver ? scene.objects[*receiver].material.albedo : 1.0);
   const double e = analytic::irradiance(scene, q.point, q.normal, receiver);
   const double radiance = albedo * kInvPi * e;
+  if (!std::isfinite(e) || !std::isfinite(radiance))
+    throw Error(fmt::format("scene file '{}': the exact irradiance at the point is {}, not a finite number (an "
+                            "emission, radiance or intensity too large for double precision).",
+                            scene.source, e));
 
   nlohmann::ordered_json j;
   j["scene"] = scene.name;

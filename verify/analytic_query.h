@@ -20,8 +20,4 @@ struct AnalyticQuery {
 // JSON. Throws furnace::Error for configurations analytic/ does not solve.
 std::string answer_analytic_query(const Scene& scene, const AnalyticQuery& q, bool json);
 
-// Parses "x,y,z" (three finite numbers); `option` names the CLI option in
-// the error sentence.
-Vec3 parse_vec3_option(const std::string& text, const std::string& option);
-
 }  // namespace furnace::verify

@@ -223,6 +223,7 @@ int run_check(const CheckOptions& options) {
     const Scene scene = load_scene(options.scene_path);
     const std::string scene_hash = file_content_hash(options.scene_path);
     const CheckReference reference = check_reference(scene, options.max_depth);
+    require_finite_reference(reference.values, scene);
     std::vector<ForeignImage> images;
     for (const std::string& path : options.image_paths)
       images.push_back(read_foreign_image(path, scene, options.channels));

@@ -19,6 +19,13 @@ namespace furnace::verify {
 
 std::string scene_dir() { return FURNACE_SCENE_DIR; }
 
+std::string low_spp_warning(int spp) {
+  if (spp >= kMinCalibratedSpp) return "";
+  return fmt::format("{} spp is below {}, the smallest spp at which the suite's false-alarm rate was measured to "
+                     "stay within alpha; correct cases may fail more often than alpha says.",
+                     spp, kMinCalibratedSpp);
+}
+
 
 // Relative round-off of E[Y²] − E² (each a short sum of double products):
 // a predicted variance below this fraction of E² is taken as exactly 0.
@@ -26,8 +33,20 @@ constexpr double kPredictedVarianceRoundOff = 64 * std::numeric_limits<double>::
 
 
 std::vector<double> reference_for(const Scene& scene, const RenderOptions& options) {
-  if (is_path_tracer(options.strategy)) return analytic::global_reference_image(scene, options.max_depth);
-  return analytic::reference_image(scene);
+  std::vector<double> reference = is_path_tracer(options.strategy)
+                                      ? analytic::global_reference_image(scene, options.max_depth)
+                                      : analytic::reference_image(scene);
+  require_finite_reference(reference, scene);
+  return reference;
+}
+
+void require_finite_reference(const std::vector<double>& reference, const Scene& scene) {
+  const size_t width = size_t(std::max(scene.camera.width_px, 1));
+  for (size_t i = 0; i < reference.size(); ++i)
+    if (!std::isfinite(reference[i]))
+      throw Error(fmt::format("scene file '{}': the exact reference of pixel ({}, {}) is {}, not a finite number (an "
+                              "emission, radiance or intensity too large for double precision).",
+                              scene.source, i % width, i / width, reference[i]));
 }
 
 std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
@@ -138,6 +157,12 @@ Verdict run_case(const Case& c, double per_case_alpha) {
       predicted_variance.clear();  // not modelled for this scene: mean tests only
     }
   }
+  // A test that cannot run at this spp is skipped and named, never failed.
+  if (!predicted_variance.empty() && uint64_t(c.options.spp) < stats::kMinVarianceTestSamples) {
+    v.variance_skipped = fmt::format("{} samples per pixel, the variance test needs at least {}", c.options.spp,
+                                     stats::kMinVarianceTestSamples);
+    predicted_variance.clear();
+  }
   v.variance_tested = !predicted_variance.empty();
   // P pixel tests + 1 image-mean test (+ 1 aggregate variance test when the
   // variance is modelled) share this case's α (Šidák).
@@ -225,11 +250,21 @@ std::string format_table(const std::vector<Verdict>& verdicts, double family_alp
                          "detectable {:.3g}%\n",
                          v.measured_variance, v.predicted_variance, v.variance_z, v.variance_pixel_failures,
                          100 * v.variance_detectable_rel_error);
+    if (!v.variance_skipped.empty()) out += fmt::format("    variance: skipped ({})\n", v.variance_skipped);
+    if (v.nonfinite_samples > 0)
+      out += fmt::format("    non-finite samples: {} (NaN or Inf, dropped from the image): the case fails\n",
+                         v.nonfinite_samples);
     if (!v.pass)
       out += fmt::format("    worst pixel ({}, {}): mean {:.6g}, reference {:.6g}, sample variance {:.3g}, |t| {:.3g}\n",
                          v.worst_px, v.worst_py, v.worst_pixel_mean, v.worst_pixel_reference,
                          v.worst_pixel_sample_variance, v.worst_pixel_t);
   }
+  const auto skipped = std::count_if(verdicts.begin(), verdicts.end(),
+                                     [](const Verdict& v) { return !v.variance_skipped.empty(); });
+  if (skipped > 0)
+    out += fmt::format("skipped: the variance test of {} case(s), fewer than {} samples per pixel (the verdicts rest "
+                       "on the mean tests)\n",
+                       skipped, stats::kMinVarianceTestSamples);
   return out;
 }
 

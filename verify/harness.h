@@ -19,6 +19,14 @@ inline constexpr double kDefaultFamilyAlpha = 0.01;
 // Power at which the minimum detectable bias is quoted: the bias the test
 // would catch with probability 1 − β. 0.9 is the usual design power.
 inline constexpr double kReportedPower = 0.9;
+// The smallest spp at which the built-in suite's false-alarm rate has been
+// measured to stay within its stated α (`furnace sweep`, README "Low spp").
+// Below it the per-pixel tests' normal approximations (Hall's statistic,
+// Cochran's rule, the fourth-moment standard error of s²) are not
+// calibrated: verify and sweep still run but print low_spp_warning().
+inline constexpr int kMinCalibratedSpp = 512;
+// One sentence warning that `spp` is below kMinCalibratedSpp; empty at or above it.
+std::string low_spp_warning(int spp);
 
 // Each pixel's mean is tested with Hall's skewness-corrected t statistic
 // against Student's t quantile (stats::pixel_mean_test, verify/pixel_tests.h).
@@ -61,6 +69,10 @@ struct Verdict {
   // analytic/moments.h models, on scenes it solves) for the sum over pixels
   // of s² − σ²; per-pixel outliers are counted for information only.
   bool variance_tested = false;
+  // Why a modelled variance was not tested (empty when it was, or when the
+  // strategy has no model): too few samples per pixel for the test
+  // (stats::kMinVarianceTestSamples). The verdict rests on the mean tests.
+  std::string variance_skipped;
   double measured_variance = 0;    // mean over pixels of the per-sample s²
   double predicted_variance = 0;   // mean over pixels of E[Y²] − E[Y]²
   double variance_z = 0;           // aggregate (Σ s² − Σ σ²)/√(Σ Var s²)
@@ -84,8 +96,14 @@ Verdict run_case(const Case& c, double per_case_alpha);
 // analytic::global_reference_image), at `spp` samples per pixel.
 std::vector<Case> default_suite(int spp, uint64_t seed, int threads);
 
-// The reference a case's render must converge to, per pixel centre.
+// The reference a case's render must converge to, per pixel centre; a
+// non-finite value is bad input (require_finite_reference).
 std::vector<double> reference_for(const Scene& scene, const RenderOptions& options);
+
+// Throws furnace::Error naming the scene file, the pixel and the value if any
+// per-pixel reference (row-major, the scene camera's width) is not finite: a
+// scene whose exact answer overflows double precision cannot be verified.
+void require_finite_reference(const std::vector<double>& reference, const Scene& scene);
 
 std::string scene_dir();
 

@@ -1,6 +1,7 @@
 // The `furnace` command line: render, verify (the default verification run).
 // Every user error is one sentence on stderr and a non-zero exit.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -21,8 +22,10 @@
 #include "verify/analytic_query.h"
 #include "verify/check.h"
 #include "verify/check_command.h"
+#include "verify/cli_options.h"
 #include "verify/export/pbrt_v4.h"
 #include "verify/harness.h"
+#include "verify/progress.h"
 #include "verify/report.h"
 #include "verify/statistics.h"
 
@@ -32,7 +35,7 @@ using namespace furnace;
 
 int run_render(const std::string& scene_path, const std::string& strategy, const std::string& defect,
                int spp, uint64_t seed, int threads, int max_depth, int roulette_depth, const std::string& output,
-               const std::string& light_selection) {
+               const std::string& light_selection, bool allow_nonfinite) {
   const Scene scene = load_scene(scene_path);
   RenderOptions options;
   options.light_selection = parse_light_selection(light_selection);
@@ -49,7 +52,16 @@ int run_render(const std::string& scene_path, const std::string& strategy, const
   fmt::print("rendered {} ({}x{}, {} spp, strategy {}) in {:.3f} s, {:.3g} samples/s, {} non-finite samples -> {}\n",
              scene.name, image.width, image.height, spp, strategy, image.seconds, samples / image.seconds,
              image.nonfinite_samples, output);
-  return 0;
+  // Non-finite samples are dropped from the image, so its mean is not the
+  // estimator's: a failure unless the user accepts it.
+  if (image.nonfinite_samples > 0 && !allow_nonfinite) {
+    std::fprintf(stderr,
+                 "furnace: FAIL: %llu of %.0f samples were not finite (NaN or Inf, dropped from %s); "
+                 "--allow-nonfinite accepts them.\n",
+                 static_cast<unsigned long long>(image.nonfinite_samples), samples, output.c_str());
+    return cli::kExitFail;
+  }
+  return cli::kExitPass;
 }
 
 int run_verify(std::vector<std::string> scenes, std::vector<std::string> strategies, const std::string& defect,
@@ -93,8 +105,15 @@ int run_verify(std::vector<std::string> scenes, std::vector<std::string> strateg
   // Šidák: the cases share the family-wise α equally.
   if (cases.empty()) throw Error("no verification case matches the given --scene and --strategy options.");
   const double per_case_alpha = stats::sidak_alpha(alpha, cases.size());
+  const std::string warning = verify::low_spp_warning(spp);
+  if (!warning.empty()) std::fprintf(stderr, "furnace: warning: %s\n", warning.c_str());
   std::vector<verify::Verdict> verdicts;
-  for (const verify::Case& c : cases) verdicts.push_back(verify::run_case(c, per_case_alpha));
+  verify::Progress progress("verify", cases.size());
+  for (const verify::Case& c : cases) {
+    verdicts.push_back(verify::run_case(c, per_case_alpha));
+    progress.step();
+  }
+  progress.finish();
   std::fputs(verify::format_table(verdicts, alpha).c_str(), stdout);
   bool all_pass = true;
   for (const auto& v : verdicts) all_pass = all_pass && v.pass;
@@ -107,16 +126,25 @@ int run_report(const std::vector<std::string>& strategies, int min_spp, int max_
   if (min_spp > max_spp)
     throw Error(fmt::format("--min-spp ({}) must not exceed --max-spp ({}).", min_spp, max_spp));
   for (const std::string& name : strategies) parse_strategy(name);
-  std::vector<verify::ConvergenceSeries> series;
+  // Where the results go is settled before any rendering.
+  cli::create_output_directory(dir, "--output-dir");
+  std::vector<verify::Case> cases;
   for (const verify::Case& c : verify::default_suite(max_spp, seed, threads)) {
     const bool selected = strategies.empty() || std::find(strategies.begin(), strategies.end(),
                                                           strategy_name(c.options.strategy)) != strategies.end();
-    if (!selected) continue;
+    if (selected) cases.push_back(c);
+  }
+  std::vector<verify::ConvergenceSeries> series;
+  verify::Progress progress("report", cases.size());
+  for (const verify::Case& c : cases) {
     series.push_back(verify::measure_convergence(c, min_spp, max_spp));
+    progress.clear();
     const auto& s = series.back();
     fmt::print("{:<16} {:<22} slope {:>7.3f}  rel. RMSE {:.3e} at {} spp in {:.3f} s\n", s.scene, s.strategy, s.slope,
                s.points.back().relative_rmse, s.points.back().spp, s.points.back().seconds);
+    progress.step();
   }
+  progress.finish();
   verify::write_convergence_report(series, dir, command_line);
   fmt::print("wrote {}/convergence.md and {}/convergence.csv\n", dir, dir);
   return 0;
@@ -135,12 +163,16 @@ int run_sweep(const std::vector<std::string>& strategies, int seeds, int spp, do
                                                           strategy_name(c.options.strategy)) != strategies.end();
     if (selected) cases.push_back(c);
   }
+  if (cases.empty()) throw Error("no sweep case matches the given --strategy options.");
+  const std::string warning = verify::low_spp_warning(spp);
+  if (!warning.empty()) std::fprintf(stderr, "furnace: warning: %s\n", warning.c_str());
   fmt::print("false-alarm sweep: {} cases x {} seeds at {} spp, per-case alpha {}\n", cases.size(), seeds, spp,
              case_alpha);
   fmt::print("{:<22} {:<24} {:>10} {:>8} {:>19} {:>10}\n", "scene", "strategy", "rejected", "rate", "95% CI",
              "binom p");
   size_t total_rejections = 0, total_trials = 0;
   bool calibrated = true;
+  verify::Progress progress("sweep", cases.size() * size_t(seeds));
   for (const verify::Case& base : cases) {
     std::string scene_name, strategy;
     const stats::RejectionRate rate = stats::measure_rejection_rate(
@@ -148,6 +180,7 @@ int run_sweep(const std::vector<std::string>& strategies, int seeds, int spp, do
           verify::Case c = base;
           c.options.seed = seed;
           const verify::Verdict v = verify::run_case(c, case_alpha);
+          progress.step();
           scene_name = v.scene;
           strategy = v.strategy;
           return !v.pass;
@@ -159,10 +192,12 @@ int run_sweep(const std::vector<std::string>& strategies, int seeds, int spp, do
     // the two-sided exact test): a significant excess at 1 %.
     const bool excess = rate.rate > case_alpha && rate.binomial_p_value < 0.01;
     calibrated = calibrated && !excess;
+    progress.clear();
     fmt::print("{:<22} {:<24} {:>5}/{:<4} {:>8.4f} [{:.4f}, {:.4f}] {:>10.3g}{}\n", scene_name, strategy,
                rate.rejections, rate.trials, rate.rate, rate.ci_low, rate.ci_high, rate.binomial_p_value,
                excess ? "  EXCESS" : "");
   }
+  progress.finish();
   const double p_all = stats::binomial_two_sided_p_value(total_rejections, total_trials, case_alpha);
   fmt::print("all cases: {}/{} rejected, rate {:.4f} against alpha {} (binomial p {:.3g})\n", total_rejections,
              total_trials, double(total_rejections) / double(total_trials), case_alpha, p_all);
@@ -196,9 +231,18 @@ CLI::Option* add_max_depth_option(CLI::App* command, int& segments, const std::s
   const std::map<std::string, int> words{{"unlimited", kUnlimitedDepth}};
   return command->add_option("--max-depth", segments, description)
       ->transform(CLI::Transformer(words, CLI::ignore_case).description(""))
-      ->check(CLI::Range(1, kUnlimitedDepth).description(""))
+      ->check(cli::integer_in(1, kUnlimitedDepth).description(""))
       ->type_name("SEGMENTS|unlimited");
 }
+
+// Upper bounds of the integer options: 2^24 spp keeps spp × pixels × path
+// length far inside 64-bit counters; 1024 threads is beyond any machine the
+// tests run on while still catching a mistyped number.
+constexpr int kMaxSpp = 1 << 24;
+constexpr int kMaxThreads = 1024;
+// α of a whole run, at most 0.5; at least 1e-12 so that its Šidák share of
+// one test among ~10⁵ (cases × pixels) is still a representable level.
+const CLI::Validator alpha_range = cli::number_in(1e-12, 0.5);
 
 }  // namespace
 
@@ -206,8 +250,15 @@ int main(int argc, char** argv) {
   CLI::App app{"furnace: deterministic verification of Monte Carlo rendering against exact references"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "furnace " + furnace_version());
-  app.footer("Exit codes (every subcommand): 0 pass, 1 fail, 2 bad input (arguments, scene files, images), "
-             "3 inconclusive (check: no test rejects but the test lacks the stated power).");
+  app.footer(cli::kExitContract);
+  // Every option's numbers go through cli_options.h's validators (finite,
+  // in range, decimal); each subcommand's --help ends with the contract too.
+  const auto with_contract = [](CLI::App* command, const std::string& footer = "") {
+    command->footer(footer.empty() ? std::string(cli::kExitContract) : footer + "\n" + cli::kExitContract);
+  };
+  const std::string spp_help = fmt::format(
+      "Samples per pixel (the variance test needs >= {}; the stated alpha is calibrated from {})",
+      stats::kMinVarianceTestSamples, verify::kMinCalibratedSpp);
 
   std::string scene_path, strategy = "light_area", defect = "none", output = "out.exr";
   int spp = 64, threads = 0;
@@ -218,15 +269,19 @@ int main(int argc, char** argv) {
   std::string light_selection = "uniform";
   render_cmd->add_option("--light-selection", light_selection, "Light selection pmf")->capture_default_str()->check(CLI::IsMember(light_selection_choices()));
   render_cmd->add_option("--defect", defect, "Negative-control defect to inject (tests only)")->capture_default_str()->check(CLI::IsMember(defect_choices()));
-  render_cmd->add_option("--spp", spp, "Samples per pixel")->capture_default_str()->check(CLI::Range(1, 1 << 24));
-  render_cmd->add_option("--seed", seed, "Random seed")->capture_default_str();
-  render_cmd->add_option("--threads", threads, "Worker threads (0: all)")->capture_default_str()->check(CLI::Range(0, 1024));
-  render_cmd->add_option("--output,-o", output, "Output EXR path")->capture_default_str();
+  render_cmd->add_option("--spp", spp, "Samples per pixel")->capture_default_str()->check(cli::integer_in(1, kMaxSpp));
+  render_cmd->add_option("--seed", seed, "Random seed")->capture_default_str()->check(cli::seed_value());
+  render_cmd->add_option("--threads", threads, "Worker threads (0: all)")->capture_default_str()->check(cli::integer_in(0, kMaxThreads));
+  render_cmd->add_option("--output,-o", output, "Output EXR path")->capture_default_str()->check(cli::output_file());
+  bool allow_nonfinite = false;
+  render_cmd->add_flag("--allow-nonfinite", allow_nonfinite,
+                       "Exit 0 even if some samples were NaN or Inf (dropped and counted; default: exit 1)");
+  with_contract(render_cmd, "render exits 1 when any sample is not finite (NaN or Inf), unless --allow-nonfinite.");
   int max_depth = kUnlimitedDepth, roulette_depth = 3;
   add_max_depth_option(render_cmd, max_depth, "Path tracers: longest path in segments, camera segment included, or "
                        "'unlimited' (default unlimited)");
   render_cmd->add_option("--roulette-depth", roulette_depth, "Path tracers: depth at which Russian roulette starts")
-      ->capture_default_str()->check(CLI::Range(1, std::numeric_limits<int>::max()));
+      ->capture_default_str()->check(cli::integer_in(1, std::numeric_limits<int>::max()));
 
   std::vector<std::string> v_scenes, v_strategies;
   std::string v_defect = "none";
@@ -243,13 +298,18 @@ int main(int argc, char** argv) {
                          "choice per case, uniform for --scene files)")
       ->check(CLI::IsMember(light_selection_choices()));
   verify_cmd->add_option("--defect", v_defect, "Inject a negative-control defect (the run must then fail)")->capture_default_str()->check(CLI::IsMember(defect_choices()));
-  verify_cmd->add_option("--spp", v_spp, "Samples per pixel")->capture_default_str()->check(CLI::Range(2, 1 << 24));
-  verify_cmd->add_option("--seed", v_seed, "Random seed")->capture_default_str();
-  verify_cmd->add_option("--threads", v_threads, "Worker threads (0: all)")->capture_default_str()->check(CLI::Range(0, 1024));
+  auto* v_scene_opt = verify_cmd->get_option("--scene");
+  verify_cmd->add_option("--spp", v_spp, spp_help)->capture_default_str()->check(cli::integer_in(2, kMaxSpp));
+  verify_cmd->add_option("--seed", v_seed, "Random seed")->capture_default_str()->check(cli::seed_value());
+  verify_cmd->add_option("--threads", v_threads, "Worker threads (0: all)")->capture_default_str()->check(cli::integer_in(0, kMaxThreads));
   verify_cmd->add_option("--alpha", v_alpha, "Family-wise false-alarm probability of the whole run")
-      ->capture_default_str()->check(CLI::Range(1e-12, 0.5));
+      ->capture_default_str()->check(alpha_range);
   add_max_depth_option(verify_cmd, v_max_depth, "Path tracers with --scene: longest path in segments, camera segment "
-                       "included, or 'unlimited' (default unlimited)");
+                       "included, or 'unlimited' (default unlimited; the built-in suite sets its own)")
+      ->needs(v_scene_opt);
+  with_contract(verify_cmd, fmt::format("A test that cannot run (the variance test below {} spp) is skipped and "
+                                        "named, never failed; below {} spp a warning says alpha is not calibrated.",
+                                        stats::kMinVarianceTestSamples, verify::kMinCalibratedSpp));
 
   std::vector<std::string> r_strategies;
   int r_min_spp = 4, r_max_spp = 1024, r_threads = 0;
@@ -257,21 +317,27 @@ int main(int argc, char** argv) {
   std::string r_dir = "reports/generated";
   auto* report_cmd = app.add_subcommand("report", "Write convergence reports (error against spp and time) for the built-in suite");
   report_cmd->add_option("--strategy", r_strategies, "Strategy name(s); default: all")->check(CLI::IsMember(strategy_choices()));
-  report_cmd->add_option("--min-spp", r_min_spp, "Smallest spp (doubled up to --max-spp)")->capture_default_str()->check(CLI::Range(2, 1 << 24));
-  report_cmd->add_option("--max-spp", r_max_spp, "Largest spp")->capture_default_str()->check(CLI::Range(2, 1 << 24));
-  report_cmd->add_option("--seed", r_seed, "Random seed")->capture_default_str();
-  report_cmd->add_option("--threads", r_threads, "Worker threads (0: all)")->capture_default_str()->check(CLI::Range(0, 1024));
-  report_cmd->add_option("--output-dir", r_dir, "Directory for convergence.md and convergence.csv")->capture_default_str();
+  report_cmd->add_option("--min-spp", r_min_spp, "Smallest spp (doubled up to --max-spp)")->capture_default_str()->check(cli::integer_in(2, kMaxSpp));
+  report_cmd->add_option("--max-spp", r_max_spp, "Largest spp")->capture_default_str()->check(cli::integer_in(2, kMaxSpp));
+  report_cmd->add_option("--seed", r_seed, "Random seed")->capture_default_str()->check(cli::seed_value());
+  report_cmd->add_option("--threads", r_threads, "Worker threads (0: all)")->capture_default_str()->check(cli::integer_in(0, kMaxThreads));
+  report_cmd->add_option("--output-dir", r_dir, "Directory for convergence.md and convergence.csv (created before "
+                         "any rendering)")->capture_default_str()->check(cli::output_directory());
+  with_contract(report_cmd);
 
-  std::string a_scene, a_point, a_normal;
-  double a_albedo = -1;
+  std::string a_scene;
+  std::array<double, 3> a_point{}, a_normal{};
+  double a_albedo = 0;
   bool a_json = false;
   auto* analytic_cmd = app.add_subcommand("analytic", "Print the exact irradiance, radiance and estimator moments at a point");
   analytic_cmd->add_option("--scene", a_scene, "Scene file (JSON)")->required();
-  analytic_cmd->add_option("--point", a_point, "Receiver point x,y,z")->required();
-  analytic_cmd->add_option("--normal", a_normal, "Receiver normal x,y,z (normalised)")->required();
-  analytic_cmd->add_option("--albedo", a_albedo, "Lambertian albedo for the radiance (default: the receiver's)")
-      ->check(CLI::Range(0.0, 1.0));
+  analytic_cmd->add_option("--point", a_point, "Receiver point x,y,z")
+      ->required()->delimiter(',')->check(cli::finite_number().description(""))->type_name("X,Y,Z");
+  analytic_cmd->add_option("--normal", a_normal, "Receiver normal x,y,z (normalised)")
+      ->required()->delimiter(',')->check(cli::finite_number().description(""))->type_name("X,Y,Z");
+  auto* a_albedo_opt = analytic_cmd->add_option("--albedo", a_albedo, "Lambertian albedo for the radiance (default: the receiver's)")
+      ->check(cli::number_in(0.0, 1.0));
+  with_contract(analytic_cmd);
   analytic_cmd->add_flag("--json", a_json, "Print JSON");
 
   verify::CheckOptions c_options;
@@ -283,11 +349,11 @@ int main(int argc, char** argv) {
                         "variance.R/G/B and N channels)")->required();
   c_options.alpha = verify::kDefaultFamilyAlpha;
   check_cmd->add_option("--alpha", c_options.alpha, "Family-wise false-alarm probability")
-      ->capture_default_str()->check(CLI::Range(1e-12, 0.5));
+      ->capture_default_str()->check(alpha_range);
   check_cmd->add_option("--max-detectable-bias", c_options.max_detectable_bias,
                         "PASS needs the image-mean test to detect a relative bias this large with power 0.9 "
                         "(else INCONCLUSIVE)")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(cli::number_in(0, 1, cli::End::kOpen));
   auto* c_depth = add_max_depth_option(
       check_cmd, c_max_depth,
       "The reference's path length, as for render (default: unlimited where the scene has a closed-form global "
@@ -299,10 +365,10 @@ int main(int argc, char** argv) {
       ->transform(CLI::CheckedTransformer(channel_modes, CLI::ignore_case).description(""))
       ->type_name("gray|rgb")->default_str("gray");
   check_cmd->add_option("--zmap", c_options.zmap_path, "Write the per-pixel t statistic to this OpenEXR file")
-      ->type_name("FILE");
+      ->check(cli::output_file().description(""))->type_name("FILE");
   check_cmd->add_option("--json", c_options.json_path, "Write every number of the report as JSON to FILE ('-': stdout, "
                         "the text report then goes to stderr)")
-      ->type_name("FILE");
+      ->check(cli::output_file(true).description(""))->type_name("FILE");
   check_cmd->footer(
       "Reference: a scene with a closed-form global-illumination answer (closed enclosures, white furnaces, scenes "
       "whose light bounces at most once, mirrors in front of these) is checked against the full answer at unlimited "
@@ -311,7 +377,7 @@ int main(int argc, char** argv) {
       "Verdict: PASS (exit 0) when no test rejects and the image-mean test detects a bias of --max-detectable-bias "
       "with power 0.9; FAIL (exit 1) when any test rejects, whatever the power; bad input (exit 2, one sentence on "
       "stderr); INCONCLUSIVE (exit 3) when nothing rejects but the test lacks that power (the report says how many "
-      "images or samples would give it).");
+      "images or samples would give it).\n" + std::string(cli::kExitContract));
 
   std::string e_scene, e_format, e_output;
   exporter::PbrtV4Options e_options;
@@ -320,39 +386,45 @@ int main(int argc, char** argv) {
                                         "when that format cannot express it exactly)");
   export_cmd->add_option("--scene", e_scene, "Scene file (JSON)")->required();
   export_cmd->add_option("--format", e_format, "Target format")->required()->check(CLI::IsMember({"pbrt-v4"}));
-  export_cmd->add_option("--spp", e_options.spp, "Samples per pixel")->capture_default_str()->check(CLI::Range(1, 1 << 24));
+  export_cmd->add_option("--spp", e_options.spp, "Samples per pixel")->capture_default_str()->check(cli::integer_in(1, kMaxSpp));
   auto* e_seed_opt = export_cmd->add_option("--seed", e_seed, "Seed written into the file (default: none, the "
-                                            "renderer's own --seed chooses)");
+                                            "renderer's own --seed chooses)")->check(cli::seed_value());
   add_max_depth_option(export_cmd, e_options.max_segments, "Longest path in segments, the camera's included, or "
                        "'unlimited' (default unlimited); the file names the matching furnace check --max-depth");
-  export_cmd->add_option("--output,-o", e_output, "Output file")->required();
+  export_cmd->add_option("--output,-o", e_output, "Output file")->required()->check(cli::output_file());
+  with_contract(export_cmd);
 
   std::vector<std::string> s_strategies;
   int s_seeds = 50, s_spp = 1024, s_threads = 0;
   double s_alpha = 0.05;
   auto* sweep_cmd = app.add_subcommand("sweep", "Measure the false-alarm rate of the verification over many seeds (slow)");
   sweep_cmd->add_option("--strategy", s_strategies, "Strategy name(s); default: all")->check(CLI::IsMember(strategy_choices()));
-  sweep_cmd->add_option("--seeds", s_seeds, "Seeds per case")->capture_default_str()->check(CLI::Range(1, 100000));
-  sweep_cmd->add_option("--spp", s_spp, "Samples per pixel")->capture_default_str()->check(CLI::Range(2, 1 << 24));
-  sweep_cmd->add_option("--case-alpha", s_alpha, "False-alarm level of each case")->capture_default_str()->check(CLI::Range(1e-6, 0.5));
-  sweep_cmd->add_option("--threads", s_threads, "Worker threads (0: all)")->capture_default_str()->check(CLI::Range(0, 1024));
+  sweep_cmd->add_option("--seeds", s_seeds, "Seeds per case")->capture_default_str()->check(cli::integer_in(1, 100000));
+  sweep_cmd->add_option("--spp", s_spp, spp_help)->capture_default_str()->check(cli::integer_in(2, kMaxSpp));
+  sweep_cmd->add_option("--case-alpha", s_alpha, "False-alarm level of each case")->capture_default_str()->check(cli::number_in(1e-6, 0.5));
+  sweep_cmd->add_option("--threads", s_threads, "Worker threads (0: all)")->capture_default_str()->check(cli::integer_in(0, kMaxThreads));
+  with_contract(sweep_cmd, "sweep exits 1 when some case rejects significantly more often than --case-alpha.");
 
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    // --help and --version exit 0; every argument error is bad input (2).
-    return app.exit(e) == 0 ? 0 : 2;
+    // --help and --version exit 0; every argument error is bad input (2),
+    // one line on stderr, whatever CLI11's own code for it.
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+    std::fprintf(stderr, "furnace: error: %s\n", cli::parse_error_message(app, e).c_str());
+    return cli::kExitBadInput;
   }
   try {
-    if (*render_cmd) return run_render(scene_path, strategy, defect, spp, seed, threads, max_depth, roulette_depth, output, light_selection);
+    if (*render_cmd) return run_render(scene_path, strategy, defect, spp, seed, threads, max_depth, roulette_depth, output, light_selection, allow_nonfinite);
     if (*analytic_cmd) {
       const Scene scene = load_scene(a_scene);
       verify::AnalyticQuery q;
-      q.point = verify::parse_vec3_option(a_point, "--point");
-      const Vec3 n = verify::parse_vec3_option(a_normal, "--normal");
-      if (!(length(n) > 0)) throw Error(fmt::format("option --normal must be a non-zero direction, got \"{}\".", a_normal));
+      q.point = {a_point[0], a_point[1], a_point[2]};
+      const Vec3 n{a_normal[0], a_normal[1], a_normal[2]};
+      if (!(length(n) > 0) || !std::isfinite(length(n)))
+        throw Error(fmt::format("option --normal must be a non-zero finite direction, got {},{},{}.", n.x, n.y, n.z));
       q.normal = normalize(n);
-      if (a_albedo >= 0) q.albedo = a_albedo;
+      if (a_albedo_opt->count() > 0) q.albedo = a_albedo;
       std::fputs(verify::answer_analytic_query(scene, q, a_json).c_str(), stdout);
       return 0;
     }
@@ -377,7 +449,7 @@ int main(int argc, char** argv) {
     if (*verify_cmd) return run_verify(v_scenes, v_strategies, v_defect, v_spp, v_seed, v_threads, v_alpha, v_max_depth, v_light_selection);
   } catch (const furnace::Error& e) {
     std::fprintf(stderr, "furnace: error: %s\n", e.what());
-    return 2;
+    return cli::kExitBadInput;
   }
-  return 0;
+  return cli::kExitPass;
 }

@@ -101,7 +101,7 @@ INSTANTIATE_TEST_SUITE_P(
                     BadInput{"UnknownShape", "\"type\": \"disk\"", "\"type\": \"disc\"", "objects[1].shape.type", "disc"},
                     BadInput{"AlbedoAboveOne", "\"albedo\": 0.5", "\"albedo\": 1.5", "objects[0].material.albedo", "1.5"},
                     BadInput{"StringNumber", "\"emission\": 3", "\"emission\": \"3\"", "objects[1].emission", "\"3\""},
-                    BadInput{"ZeroNormal", "[0, 0, -2]", "[0, 0, 0]", "objects[1].shape.normal", "[0, 0, 0]"},
+                    BadInput{"ZeroNormal", "[0, 0, -2]", "[0, 0, 0]", "objects[1].shape.normal", "[0,0,0]"},
                     BadInput{"ShortVector", "\"center\": [0, 0, 2]", "\"center\": [0, 2]", "objects[1].shape.center", "[0,2]"},
                     BadInput{"ZeroResolution", "[8, 4]", "[0, 4]", "camera.resolution", "[0,4]"},
                     BadInput{"MissingCamera", "\"camera\"", "\"kamera\"", "camera", "missing"},

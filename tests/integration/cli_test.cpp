@@ -2,10 +2,13 @@
 // value, a non-zero exit, and no output file.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -77,6 +80,146 @@ TEST(Cli, BadNumberIsRejected) {
   const Result r = run_cli("verify --spp -3");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("spp"), std::string::npos) << r.output;
+}
+
+// Every kind of argument error exits 2 with one line on stderr naming the
+// option (or word) at fault, whatever CLI11's own code for it, before any work.
+TEST(Cli, EveryArgumentErrorIsOneLineNamingTheOptionAndExitsTwo) {
+  const auto dir = temp_dir();
+  const std::string scene = std::string(FURNACE_SCENE_DIR) + "/disk_occluder.json";
+  const std::string afile = (dir / "afile").string();
+  std::ofstream(afile) << "x";
+  const std::string missing = (dir / "missing").string();
+  const std::string images = " --image " + (dir / "a.exr").string() + " --image " + (dir / "b.exr").string();
+  const std::string check = "check --scene " + scene + images;
+  const std::string analytic = "analytic --scene " + scene;
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"verify --bogus", "--bogus"},                                   // unknown option
+      {"verify --spp", "--spp"},                                       // missing value
+      {"render --scene " + scene + " extra", "extra"},                 // extra positional
+      {"verify --spp abc", "--spp"},                                   // wrong type
+      {"verify --spp 1e3", "--spp"},
+      {"verify --spp 1", "--spp"},                                     // out of range
+      {"render --scene " + scene + " --spp 0", "--spp"},
+      {"verify --max-depth 3", "--max-depth"},                         // needs --scene
+      {"frobnicate", "frobnicate"},                                    // unknown subcommand
+      {"", "subcommand"},                                              // no subcommand
+      {"verify --alpha nan", "--alpha"},
+      {"verify --alpha 0", "--alpha"},
+      {"verify --alpha 0.7", "--alpha"},
+      {check + " --alpha nan", "--alpha"},
+      {check + " --max-detectable-bias inf", "--max-detectable-bias"},
+      {check + " --max-detectable-bias 0", "--max-detectable-bias"},
+      {check + " --channels hsv", "--channels"},
+      {check + " --zmap " + afile + "/z.exr", "--zmap"},
+      {check + " --json " + missing + "/j.json", "--json"},
+      {analytic + " --point 0,0,0 --normal 0,0,1 --albedo nan", "--albedo"},
+      {analytic + " --point 0,0,0 --normal 0,0,1 --albedo 1.5", "--albedo"},
+      {analytic + " --point 0,nan,0 --normal 0,0,1", "--point"},
+      {analytic + " --point 0,0,0 --normal 0,0,inf", "--normal"},
+      {analytic + " --point 0,0 --normal 0,0,1", "--point"},
+      {"verify --seed -1", "--seed"},
+      {"verify --seed 18446744073709551616", "--seed"},
+      {"render --scene " + scene + " --seed 1.5", "--seed"},
+      {"verify --threads 1e9", "--threads"},
+      {"render --scene " + scene + " --threads -1", "--threads"},
+      {"render --scene " + scene + " --roulette-depth 0", "--roulette-depth"},
+      {"render --scene " + scene + " --max-depth 0", "--max-depth"},
+      {"render --scene " + scene + " --output " + missing + "/out.exr", "--output"},
+      {"render --scene " + scene + " --output " + dir.string(), "--output"},
+      {"export --scene " + scene + " --format pbrt-v4 -o " + missing + "/x.pbrt", "--output"},
+      {"export --scene " + scene + " --format pbrt-v4 --spp 0 -o x.pbrt", "--spp"},
+      {"export --scene " + scene + " --format pbrt-v4 --seed -1 -o x.pbrt", "--seed"},
+      {"report --min-spp 1", "--min-spp"},
+      {"report --max-spp 99999999999", "--max-spp"},
+      {"report --seed -1", "--seed"},
+      {"report --output-dir " + afile + "/sub", "--output-dir"},
+      {"report --output-dir ''", "--output-dir"},
+      {"sweep --case-alpha nan", "--case-alpha"},
+      {"sweep --seeds 0", "--seeds"},
+      {"sweep --spp 1", "--spp"},
+  };
+  for (const auto& [args, name] : cases) {
+    const Result r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.output;
+    EXPECT_EQ(r.output.rfind("furnace: error: ", 0), 0u) << args << ": " << r.output;
+    EXPECT_NE(r.output.find(name), std::string::npos) << args << ": " << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << ": " << r.output;
+  }
+  EXPECT_FALSE(std::filesystem::exists(missing));
+  EXPECT_TRUE(std::filesystem::is_regular_file(afile));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Cli, HelpAndVersionExitZeroAndHelpStatesTheExitCodes) {
+  const Result help = run_cli("--help");
+  EXPECT_EQ(help.exit_code, 0) << help.output;
+  EXPECT_NE(help.output.find("0 pass, 1 fail, 2 bad input"), std::string::npos) << help.output;
+  EXPECT_NE(help.output.find("3 inconclusive"), std::string::npos) << help.output;
+  for (const char* sub : {"render", "verify", "analytic", "check", "export", "report", "sweep"}) {
+    const Result r = run_cli(std::string(sub) + " --help");
+    EXPECT_EQ(r.exit_code, 0) << sub;
+    EXPECT_NE(r.output.find("2 bad input"), std::string::npos) << sub << ": " << r.output;
+  }
+  EXPECT_EQ(run_cli("--version").exit_code, 0);
+}
+
+// Below stats::kMinVarianceTestSamples the variance test cannot run: it is
+// skipped and named, the case passes on its mean tests; below
+// kMinCalibratedSpp a warning says the stated alpha is not calibrated there.
+TEST(Cli, TooFewSamplesSkipTheVarianceTestLoudlyAndTheCasePasses) {
+  const Result r = run_cli("verify --scene " + std::string(FURNACE_SCENE_DIR) +
+                           "/disk_occluder.json --strategy light_area --spp 99");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("variance: skipped (99 samples per pixel, the variance test needs at least 100)"),
+            std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("skipped: the variance test of 1 case(s)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("warning: 99 spp is below"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("verdict: PASS"), std::string::npos) << r.output;
+  // Not a terminal: no progress line.
+  EXPECT_EQ(r.output.find('\r'), std::string::npos) << r.output;
+}
+
+// Non-finite samples (the nan_sample control: one sample in 1024 is NaN)
+// fail a render unless --allow-nonfinite, and fail a verification case.
+TEST(Cli, NonFiniteSamplesFailRenderAndVerify) {
+  const auto dir = temp_dir();
+  const std::string scene = std::string(FURNACE_SCENE_DIR) + "/disk_occluder.json";
+  const std::string out = (dir / "nan.exr").string();
+  const Result render = run_cli("render --scene " + scene + " --spp 4 --defect nan_sample --output " + out);
+  EXPECT_EQ(render.exit_code, 1) << render.output;
+  EXPECT_NE(render.output.find("4 of 4096 samples were not finite"), std::string::npos) << render.output;
+  const Result allowed =
+      run_cli("render --scene " + scene + " --spp 4 --defect nan_sample --allow-nonfinite --output " + out);
+  EXPECT_EQ(allowed.exit_code, 0) << allowed.output;
+  const Result clean = run_cli("render --scene " + scene + " --spp 4 --output " + out);
+  EXPECT_EQ(clean.exit_code, 0) << clean.output;
+  const Result verify = run_cli("verify --scene " + scene + " --strategy light_area --spp 128 --defect nan_sample");
+  EXPECT_EQ(verify.exit_code, 1) << verify.output;
+  EXPECT_NE(verify.output.find("non-finite samples: 128"), std::string::npos) << verify.output;
+  std::filesystem::remove_all(dir);
+}
+
+// A scene whose exact answer overflows double precision is bad input, named,
+// in every command that needs the reference.
+TEST(Cli, NonFiniteReferenceIsBadInput) {
+  const auto dir = temp_dir();
+  const auto scene = dir / "huge_sky.json";
+  std::ifstream in(std::string(FURNACE_SCENE_DIR) + "/environment_blocker.json");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string from = "\"radiance\": 1.5";
+  text.replace(text.find(from), from.size(), "\"radiance\": 1e308");
+  std::ofstream(scene) << text;
+  for (const std::string& args :
+       {"verify --scene " + scene.string() + " --strategy light_area --spp 4",
+        "analytic --scene " + scene.string() + " --point 1.5,1.5,0 --normal 0,0,1",
+        "check --scene " + scene.string() + " --image " + (dir / "a.exr").string() + " --image " +
+            (dir / "b.exr").string()}) {
+    const Result r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.output;
+    EXPECT_NE(r.output.find("huge_sky.json"), std::string::npos) << args << ": " << r.output;
+  }
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Cli, InjectedDefectMakesVerifyFail) {
