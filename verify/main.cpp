@@ -264,6 +264,7 @@ int main(int argc, char** argv) {
   report_cmd->add_option("--output-dir", r_dir, "Directory for convergence.md and convergence.csv")->capture_default_str();
 
   std::string a_scene, a_point, a_normal;
+  std::vector<std::string> a_estimators;
   double a_albedo = -1;
   bool a_json = false;
   auto* analytic_cmd = app.add_subcommand("analytic", "Print the exact irradiance, radiance and estimator moments at a point");
@@ -272,6 +273,10 @@ int main(int argc, char** argv) {
   analytic_cmd->add_option("--normal", a_normal, "Receiver normal x,y,z (normalised)")->required();
   analytic_cmd->add_option("--albedo", a_albedo, "Lambertian albedo for the radiance (default: the receiver's)")
       ->check(CLI::Range(0.0, 1.0));
+  analytic_cmd->add_option("--estimator", a_estimators,
+                           "Estimator(s) whose second moment and variance to compute (repeatable; default: every "
+                           "strategy with its own variance model)")
+      ->check(CLI::IsMember(strategy_choices()));
   analytic_cmd->add_flag("--json", a_json, "Print JSON");
 
   verify::CheckOptions c_options;
@@ -353,6 +358,7 @@ int main(int argc, char** argv) {
       if (!(length(n) > 0)) throw Error(fmt::format("option --normal must be a non-zero direction, got \"{}\".", a_normal));
       q.normal = normalize(n);
       if (a_albedo >= 0) q.albedo = a_albedo;
+      for (const std::string& name : a_estimators) q.estimators.push_back(parse_strategy(name));
       std::fputs(verify::answer_analytic_query(scene, q, a_json).c_str(), stdout);
       return 0;
     }
