@@ -8,7 +8,7 @@
 
 #include "analytic/error_ledger.h"
 #include "analytic/polygon.h"
-#include "analytic/polygon_patch.h"
+#include "core/adaptive_quadrature.h"
 #include "core/error.h"
 
 namespace furnace::analytic {

@@ -200,6 +200,9 @@ std::vector<std::pair<double, double>> positive_arcs(double A, double B, double 
 
 constexpr double kMisQuadratureTolerance = 1e-10;
 constexpr int kMisQuadratureDepth = 15;
+// Bisections per integral of a polygon's MIS terms: a bounded cost (the
+// error reached is reported to the ErrorLedger).
+constexpr size_t kMisMaxBisections = 200;
 
 // ∫ g(cos θ, p_light) dω over a family of rings: outer u ∈ [u0, u1] (split
 // at `kinks`, where the horizon starts to cut the rings), inner φ over the
@@ -274,19 +277,26 @@ struct DiskRings {
   }
 };
 
-// ∫ g(cos θ, p_light) dω over a polygon light (polygon_patch.h, dω = cos θ'/r² dA);
+// ∫ g(cos θ, p_light) dω over a polygon light (polygon_patch.h);
 // p_light = pmf/Ω for solid-angle sampling (omega > 0), else the area density
 // converted to solid angle.
+// In the polygon plane's own spherical coordinates (polygon_direction_integral):
+// at a direction with cos θ' = cos t the hit point is at r = h/cos t, so the
+// area density in solid angle is pmf·r²/(A cos θ') = pmf·h²/(A cos³t).
 template <class Integrand>
 double patch_integral_mis(const std::vector<Vec3>& v, const Vec3& n, double pmf, double omega, double area,
                           Integrand g) {
-  return polygon_patch_integral(v, n, kMisQuadratureTolerance, kMisQuadratureDepth, [&](const Vec3& x, const Vec3& m) {
-    const double r2 = length_squared(x), r = std::sqrt(r2);
-    const double cos_theta = dot(n, x) / r, cos_light = std::fabs(dot(m, x)) / r;
-    if (!(cos_theta > 0) || !(cos_light > 0)) return 0.0;
-    const double p_light = omega > 0 ? pmf / omega : pmf * r2 / (area * cos_light);
-    return g(cos_theta, p_light) * cos_light / r2;
-  });
+  const Vec3 m = normalize(cross(v[1] - v[0], v[2] - v[0]));
+  const double h = std::fabs(dot(m, v[0]));
+  return polygon_direction_integral(v, n, kMisQuadratureTolerance, kMisQuadratureDepth, kMisMaxBisections,
+                                    [&](const Vec3& u, double cos_light) {
+                                      const double cos_theta = dot(n, u);
+                                      if (!(cos_theta > 0) || !(cos_light > 0)) return 0.0;
+                                      const double p_light =
+                                          omega > 0 ? pmf / omega
+                                                    : pmf * h * h / (area * cos_light * cos_light * cos_light);
+                                      return g(cos_theta, p_light);
+                                    });
 }
 
 // The MIS terms of emitter i (unoccluded) per unit radiance.

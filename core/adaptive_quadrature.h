@@ -66,10 +66,12 @@ inline constexpr size_t kUnlimitedBisections = SIZE_MAX;
 // share the absolute tolerance equally. More than one piece puts the first
 // nodes closer together, so that a narrow feature is less likely to fall
 // between all of them (no error estimate sees what no node samples).
-// `max_bisections` caps the bisections of the whole integral (see above).
+// `max_bisections` caps the bisections of the whole integral (see above);
+// `error_sum` receives the error estimate reached (see above).
 template <unsigned Points = kDefaultKronrodPoints, class F>
 double adaptive_gauss_kronrod_relative(const F& f, double a, double b, double rel_tolerance, int depth,
-                                       int initial_pieces = 1, size_t max_bisections = kUnlimitedBisections) {
+                                       int initial_pieces = 1, size_t max_bisections = kUnlimitedBisections,
+                                       double* error_sum = nullptr) {
   const auto edge = [&](int i) { return i == initial_pieces ? b : a + (b - a) * i / initial_pieces; };
   double first = 0;
   for (int i = 0; i < initial_pieces; ++i) {
@@ -81,7 +83,7 @@ double adaptive_gauss_kronrod_relative(const F& f, double a, double b, double re
   size_t* cap = max_bisections == kUnlimitedBisections ? nullptr : &bisections_left;
   double sum = 0;
   for (int i = 0; i < initial_pieces; ++i)
-    sum += adaptive_gauss_kronrod<Points>(f, edge(i), edge(i + 1), abs_tolerance, depth, cap);
+    sum += adaptive_gauss_kronrod<Points>(f, edge(i), edge(i + 1), abs_tolerance, depth, cap, error_sum);
   return sum;
 }
 
