@@ -30,14 +30,15 @@ namespace furnace::analytic {
 // in its own polar angle ψ about the foot of the perpendicular from F
 // (ρ = d0/cos ψ), the inner t-integral split where the ray crosses the
 // horizon. Both levels: adaptive Gauss–Kronrod (core/adaptive_quadrature.h)
-// to `rel_tolerance`, at most `depth` levels and `max_bisections` per
-// integral. The error reached (the outer estimate plus the worst inner
+// to `rel_tolerance`, at most `depth` levels, `outer_bisections` per edge and
+// `inner_bisections` per ray, so at most (2·outer + 1)·31 rays per edge of at
+// most (2·inner + 1)·31 evaluations each (nested caps multiply). The error reached (the outer estimate plus the worst inner
 // relative estimate times the result) is reported to the open ErrorLedger.
 // f is called only with directions above the plane's near side; it must
 // handle the receiver's horizon itself (return 0 where n·u ≤ 0).
 template <class F>
 double polygon_direction_integral(const std::vector<Vec3>& vertices, const Vec3& n, double rel_tolerance, int depth,
-                                  size_t max_bisections, F f) {
+                                  size_t outer_bisections, size_t inner_bisections, F f) {
   const std::vector<Vec3> v = clip_to_hemisphere(vertices, n);
   const size_t count = v.size();
   if (count < 3) return 0.0;
@@ -62,24 +63,29 @@ double polygon_direction_integral(const std::vector<Vec3>& vertices, const Vec3&
   const double n_axis = dot(n, axis), n1 = dot(n, frame.s), n2 = dot(n, frame.t);
   double worst_inner = 0, outer_error = 0;
   // ∫ f sin t dt over [0, T] (inside) or [T, π/2] (outside) at azimuth (cφ, sφ),
-  // split where n·u = cos t·(n·axis) + sin t·c crosses 0.
-  auto ray = [&](double c_phi, double s_phi, double T) {
+  // split where n·u = cos t·(n·axis) + sin t·c crosses 0. The outside range
+  // is integrated in s = π/2 − t ∈ [0, atan2(h, ρ)] (cos t = sin s), since
+  // cos t of a t near π/2 carries an absolute error ~ ε that is large
+  // relative to the short range's own cos t ~ h/ρ.
+  auto ray = [&](double c_phi, double s_phi, double rho) {
     const double c = n1 * c_phi + n2 * s_phi;
-    auto g = [&](double t) {
-      const double ct = std::cos(t), st = std::sin(t);
-      const Vec3 u = axis * ct + (frame.s * c_phi + frame.t * s_phi) * st;
-      return f(u, ct) * st;
+    const Vec3 w = frame.s * c_phi + frame.t * s_phi;
+    // x: t itself (inside) or s = π/2 − t (outside).
+    auto g = [&](double x) {
+      const double ct = outside ? std::sin(x) : std::cos(x), st = outside ? std::cos(x) : std::sin(x);
+      return f(axis * ct + w * st, ct) * st;
     };
-    const double lo = outside ? T : 0.0, hi = outside ? kPi / 2 : T;
-    double cuts[3] = {lo, hi, hi};
+    const double hi = outside ? std::atan2(h, rho) : std::atan2(rho, h);
+    // n·u = 0 at t = atan2(−n·axis, c), i.e. s = atan2(−c, n·axis) (mod π).
+    const double x_h = outside ? std::atan2(-c, n_axis) : std::atan2(-n_axis, c);
+    double cuts[3] = {0.0, hi, hi};
     int k = 2;
-    const double t_h = std::atan2(-n_axis, c);  // cos t·n_axis + sin t·c = 0
-    for (double t : {t_h, t_h + kPi})
-      if (t > lo && t < hi) cuts[1] = t, cuts[2] = hi, k = 3;
+    for (double x : {x_h, x_h + kPi, x_h - kPi})
+      if (x > 0 && x < hi) cuts[1] = x, k = 3;
     double sum = 0, error = 0;
     for (int i = 0; i + 1 < k; ++i)
       if (cuts[i + 1] > cuts[i])
-        sum += adaptive_gauss_kronrod_relative(g, cuts[i], cuts[i + 1], rel_tolerance, depth, 1, max_bisections, &error);
+        sum += adaptive_gauss_kronrod_relative(g, cuts[i], cuts[i + 1], rel_tolerance, depth, 1, inner_bisections, &error);
     if (sum != 0) worst_inner = std::fmax(worst_inner, std::fabs(error / sum));
     return sum;
   };
@@ -99,10 +105,10 @@ double polygon_direction_integral(const std::vector<Vec3>& vertices, const Vec3&
       const double along = dist * std::tan(psi);
       const double x = px * dist + tx * along, y = py * dist + ty * along;
       const double rho = std::hypot(x, y);
-      return ray(x / rho, y / rho, std::atan2(rho, h));
+      return ray(x / rho, y / rho, rho);
     };
     const double value = adaptive_gauss_kronrod_relative(edge, std::fmin(psi_a, psi_b), std::fmax(psi_a, psi_b),
-                                                         rel_tolerance, depth, 1, max_bisections, &outer_error);
+                                                         rel_tolerance, depth, 1, outer_bisections, &outer_error);
     total += (psi_b >= psi_a) == (d0 > 0) ? value : -value;  // dφ = sign(d0)·dψ along the edge
   }
   const double result = std::fabs(total);
