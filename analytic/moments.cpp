@@ -59,9 +59,17 @@ double blocker_cos2_solid_angle(const Scene& scene, size_t j, const Vec3& p, con
   const Object& o = scene.objects[j];
   if (const auto* s = std::get_if<Sphere>(&o.shape)) return sphere_cos2_solid_angle(s->center - p, s->radius, n);
   if (const auto* d = std::get_if<Disk>(&o.shape)) {
-    if (length(cross(normalize(d->normal), n)) > 1e-12)
-      unsupported_configuration(scene, "the uniform-hemisphere moment of an environment blocked by the tilted disk '" +
-                                           o.name + "'");
+    if (length(cross(normalize(d->normal), n)) > 1e-12) {
+      // A tilted disk: the general planar path for the disk as a lone
+      // two-sided emitter (as projected_solid_angle does for E).
+      Scene alone;
+      alone.name = scene.name;
+      alone.source = scene.source;
+      alone.objects.push_back(o);
+      alone.objects.back().emitted_radiance = 1;
+      alone.objects.back().two_sided = true;
+      return planar_light_cos2_solid_angle(alone, 0, p, n, std::nullopt);
+    }
     const Vec3 offset = d->center - p;
     const double h = dot(offset, n);
     const Frame f = Frame::from_normal(n);

@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 
 #include "analytic/light_moments.h"
+#include "analytic/moments.h"
 #include "analytic/reference.h"
 
 namespace furnace::analytic {
@@ -170,9 +171,11 @@ TEST(PrecisionSweep, NearTotalSkyBlocking) {
 }
 
 // A tilted black disk over the receiver: E = L·(π − Ω⊥), Ω⊥ by a polar
-// integral over the disk in 50 digits (radial Gauss–Kronrod inside, angular outside).
+// integral over the disk in 50 digits (radial Gauss–Kronrod inside, angular
+// outside); and the uniform-hemisphere second moment 2π·L²·∫_open cos²θ dω =
+// 2π·L²·(2π/3 − ∫_disk cos²θ dω) the same way.
 TEST(PrecisionSweep, TiltedDiskBlockingTheSky) {
-  double worst = 0;
+  double worst = 0, worst_moment = 0;
   std::string where;
   for (double tilt : {0.3, 0.9, 1.3})
     for (double height : {0.5, 0.05}) {
@@ -198,8 +201,28 @@ TEST(PrecisionSweep, TiltedDiskBlockingTheSky) {
       const double err = relative_error(e, expected);
       EXPECT_LE(err, kSweepTolerance) << "tilt " << tilt << " height " << height;
       if (err > worst) worst = err, where = "tilt " + std::to_string(tilt) + ", height " + std::to_string(height);
+      // cos²θ dω = z²·|m·x|/r⁵ dA: the radial integrand times z/r.
+      auto angular2 = [&](const Big& phi) {
+        const Big c = cos(phi), s = sin(phi);
+        const Big ux = Big(f.s.x) * c + Big(f.t.x) * s, uy = Big(f.s.y) * c + Big(f.t.y) * s,
+                  uz = Big(f.s.z) * c + Big(f.t.z) * s;
+        auto radial = [&](const Big& rho) {
+          const Big x = rho * ux, y = rho * uy, z = Big(height) + rho * uz;
+          const Big r2 = x * x + y * y + z * z;
+          const Big m_dot = abs(Big(m.x) * x + Big(m.y) * y + Big(m.z) * z);
+          return rho * z * z * m_dot / (r2 * r2 * sqrt(r2));
+        };
+        return integrate(radial, Big(0), Big(R));
+      };
+      const Big two_pi = boost::math::constants::two_pi<Big>();
+      const Big moment = two_pi * (two_pi / 3 - integrate(angular2, Big(0), two_pi));
+      const double m2 = second_moment(Strategy::kUniformHemisphere, scene, {0, 0, 0}, {0, 0, 1}, size_t(0));
+      const double err2 = relative_error(m2, moment);
+      EXPECT_LE(err2, kSweepTolerance) << "uniform-hemisphere moment, tilt " << tilt << " height " << height;
+      worst_moment = std::fmax(worst_moment, err2);
     }
   print_worst("tilted disk blocking the sky", worst, where);
+  print_worst("  its uniform-hemisphere moment", worst_moment, "the grid");
 }
 
 // A disk light (radius 0.5 at height 1) behind a parallel disk occluder of
