@@ -8,6 +8,7 @@
 
 #include "analytic/error_ledger.h"
 #include "analytic/polygon.h"
+#include "analytic/small_emitter.h"
 #include "core/adaptive_quadrature.h"
 #include "core/error.h"
 
@@ -51,6 +52,68 @@ double cone_integral(const Vec3& center, double R, const Vec3& n, Weight weight)
   return sum;
 }
 
+// Solid angle of the triangle A B C (vectors from p) by Van Oosterom and
+// Strackee, Ω = 2·atan2(a·(b × c), 1 + a·b + b·c + c·a) for the unit vectors,
+// with the triple product as A·((B − A) × (C − A))/(|A||B||C|): the edge
+// vectors keep it accurate when p is close to the triangle's plane (the
+// unit vectors are then nearly coplanar and a·(b × c) computed from them
+// has an absolute error ~ ε against a value ~ the plane's distance).
+double triangle_solid_angle(const Vec3& A, const Vec3& B, const Vec3& C) {
+  const double la = length(A), lb = length(B), lc = length(C);
+  const Vec3 a = A / la, b = B / lb, c = C / lc;
+  const double triple = dot(A, cross(B - A, C - A)) / (la * lb * lc);
+  return 2 * std::atan2(triple, 1 + dot(a, b) + dot(b, c) + dot(c, a));
+}
+
+// Solid angle of a convex planar polygon (vertices relative to p) by
+// Green's theorem about p's foot point F on its plane (height h):
+//   Ω = ∮ (1 − cos T) dφ,  cos T = h/√(h² + ρ²),
+// and along an edge at distance d0 from F, in its polar angle ψ
+// (ρ = d0/cos ψ), ∫ h/√(h² + ρ²) dφ = asin(k sin ψ), k = h/√(h² + d0²).
+// So Ω = 2π·[F inside] − Σ_edges ±[asin(k sin ψ)], the ∮ dφ part exact (2π
+// inside, 0 outside, the interior angle on the boundary). Unlike the
+// Van Oosterom–Strackee fan, whose denominators 1 + a·b + b·c + c·a cancel
+// to ~ h² when p is close to a large polygon (a 1e-11 relative error at
+// h = 1e-6 of the polygon's size), nothing here cancels in that regime.
+double polygon_solid_angle_green(const std::vector<Vec3>& v) {
+  const size_t count = v.size();
+  const Vec3 m = polygon_normal(v);
+  const double h = std::fabs(dot(m, v[0]));
+  if (!(h > 0)) return 0.0;
+  const Frame f = Frame::from_normal(m);
+  std::vector<double> qx(count), qy(count);
+  for (size_t i = 0; i < count; ++i) qx[i] = dot(v[i], f.s), qy[i] = dot(v[i], f.t);
+  double orientation = 0, sweep = 0, boundary = 0;
+  bool outside = false, on_boundary = false;
+  for (size_t i = 0; i < count; ++i) orientation += qx[i] * qy[(i + 1) % count] - qy[i] * qx[(i + 1) % count];
+  const double o = orientation > 0 ? 1.0 : -1.0;
+  for (size_t i = 0; i < count; ++i) {
+    const size_t j = (i + 1) % count;
+    const double ax = qx[i], ay = qy[i], bx = qx[j], by = qy[j];
+    const double turn = ax * by - ay * bx;
+    const double scale = std::hypot(ax, ay) * std::hypot(bx, by);
+    if (o * turn < -1e-12 * scale) outside = true;
+    // An edge through F (or ending at it) sweeps no angle: φ jumps at F itself.
+    if (std::fabs(turn) <= 1e-12 * scale) {
+      on_boundary = true;
+      continue;
+    }
+    sweep += o * std::atan2(turn, ax * bx + ay * by);
+    const double ex = bx - ax, ey = by - ay, len = std::hypot(ex, ey);
+    if (!(len > 0)) continue;
+    const double d0 = (ax * ey - ay * ex) / len;
+    if (d0 == 0) continue;  // the edge's line passes through F: dφ = 0
+    const double dist = std::fabs(d0), tx = ex / len, ty = ey / len;
+    const double k = h / std::hypot(h, dist);
+    // sin ψ of an end point = (its coordinate along the edge)/ρ.
+    const double sa = (ax * tx + ay * ty) / std::hypot(ax, ay), sb = (bx * tx + by * ty) / std::hypot(bx, by);
+    // dφ = sign(d0)·dψ; the polygon's own orientation o makes Ω positive.
+    boundary += o * (d0 > 0 ? 1 : -1) * (std::asin(k * sb) - std::asin(k * sa));
+  }
+  const double enclosed = outside ? 0.0 : on_boundary ? sweep : 2 * kPi;
+  return std::fmax(enclosed - boundary, 0.0);
+}
+
 // ∫_0^T sin⁴t·cos²t dt by 20-point Gauss–Legendre: the closed form cancels
 // for small T (the result is ~ T⁵/5); the integrand is a trigonometric
 // polynomial of degree 6, which a 20-point rule on T ≤ π/2 integrates to far
@@ -92,12 +155,7 @@ double polygon_cos2_solid_angle(const std::vector<Vec3>& vertices, const Vec3& n
   if (count < 3) return 0.0;
   std::vector<Vec3> u;
   for (const Vec3& v : clipped) u.push_back(normalize(v));
-  // Solid angle: signed fan of Van Oosterom–Strackee triangles.
-  double sigma = 0;
-  for (size_t k = 1; k + 1 < count; ++k) {
-    const Vec3 &a = u[0], &b = u[k], &c = u[k + 1];
-    sigma += 2 * std::atan2(dot(a, cross(b, c)), 1 + dot(a, b) + dot(b, c) + dot(c, a));
-  }
+  const double sigma = polygon_solid_angle(clipped);
   double first = 0, edges = 0;
   for (size_t i = 0; i < count; ++i) {
     const Vec3& a = u[i];
@@ -119,7 +177,7 @@ double polygon_cos2_solid_angle(const std::vector<Vec3>& vertices, const Vec3& n
 double polygon_area_kernel(const std::vector<Vec3>& vertices, const Vec3& n) {
   const std::vector<Vec3> clipped = clip_to_hemisphere(vertices, n);
   if (clipped.size() < 3) return 0.0;
-  const Vec3 m = normalize(cross(clipped[1] - clipped[0], clipped[2] - clipped[0]));
+  const Vec3 m = polygon_normal(clipped);
   const double signed_h = dot(m, clipped[0]);
   const double h = std::fabs(signed_h);
   if (!(h > 0)) return 0.0;  // p in the polygon's plane: cos θ' = 0
@@ -227,12 +285,11 @@ double sphere_solid_angle(double D, double R) {
 
 double polygon_solid_angle(const std::vector<Vec3>& vertices) {
   FURNACE_CHECK(vertices.size() >= 3);
-  const Vec3 a = normalize(vertices[0]);
+  // Large (or near) polygons: Green's form; small ones: the fan, whose
+  // triangles then subtend < 1 rad each and whose denominators stay > 2.6.
+  if (!(polygon_angular_size(vertices) < 1)) return polygon_solid_angle_green(vertices);
   double sigma = 0;
-  for (size_t k = 1; k + 1 < vertices.size(); ++k) {
-    const Vec3 b = normalize(vertices[k]), c = normalize(vertices[k + 1]);
-    sigma += 2 * std::atan2(dot(a, cross(b, c)), 1 + dot(a, b) + dot(b, c) + dot(c, a));
-  }
+  for (size_t k = 1; k + 1 < vertices.size(); ++k) sigma += triangle_solid_angle(vertices[0], vertices[k], vertices[k + 1]);
   return std::fabs(sigma);
 }
 

@@ -32,4 +32,9 @@ std::vector<Vec3> clip_to_hemisphere(const std::vector<Vec3>& vertices, const Ve
 // interior).
 double polygon_irradiance(const std::vector<Vec3>& vertices, const Vec3& n);
 
+// Unit normal of a planar polygon (≥ 3 vertices, winding as given) from
+// Σ (v_i − v_0) × (v_{i+1} − v_0) (twice its vector area), so that repeated
+// or collinear vertices, as clipping leaves them, do not matter.
+Vec3 polygon_normal(const std::vector<Vec3>& vertices);
+
 }  // namespace furnace::analytic

@@ -42,7 +42,7 @@ double polygon_direction_integral(const std::vector<Vec3>& vertices, const Vec3&
   const std::vector<Vec3> v = clip_to_hemisphere(vertices, n);
   const size_t count = v.size();
   if (count < 3) return 0.0;
-  const Vec3 m = normalize(cross(v[1] - v[0], v[2] - v[0]));
+  const Vec3 m = polygon_normal(v);
   const double signed_h = dot(m, v[0]);
   const double h = std::fabs(signed_h);
   if (!(h > 0)) return 0.0;  // p in the plane: the polygon subtends no solid angle

@@ -1,5 +1,7 @@
 #include "analytic/small_emitter.h"
 
+#include "analytic/polygon.h"
+
 #include <cmath>
 
 #include <boost/math/quadrature/gauss.hpp>
@@ -56,7 +58,7 @@ double polygon_angular_size(const std::vector<Vec3>& vertices) {
 
 double small_polygon_irradiance(const std::vector<Vec3>& v, const Vec3& n) {
   const UnitRule& g = unit_rule();
-  const Vec3 m = normalize(cross(v[1] - v[0], v[2] - v[0]));
+  const Vec3 m = polygon_normal(v);
   double sum = 0;
   for (size_t i = 1; i + 1 < v.size(); ++i) {
     const Vec3 e1 = v[i] - v[0], e2 = v[i + 1] - v[i];

@@ -277,5 +277,50 @@ TEST(PrecisionSweep, LightAreaKernelOfNearRectangle) {
   print_worst("light-area kernel, near rectangle", worst, where);
 }
 
+// Multi-sample MIS (one BSDF and one solid-angle light sample) under a unit
+// square light centred h above the receiver, facing down: E[Y²] = E[Y_b²] +
+// E[Y_l²] + 2·E[Y_b]·E[Y_l], each term ∫ g(cos θ) dω with p_b = cos θ/π and
+// p_l = 1/Ω, Ω = 4·atan(ab/(h·√(a² + b² + h²))) (a = b = ½). Reference in 50
+// digits: by the square's 8-fold symmetry, φ ∈ [0, π/4] with the edge at
+// ρ = ½/cos φ, and the polar angle t about the normal in [0, atan(ρ/h)],
+// dω = sin t dt dφ, cos θ = cos t.
+TEST(PrecisionSweep, MisMomentsOfNearSquare) {
+  double worst = 0;
+  std::string where;
+  for (int beta : {1, 2})
+    for (double h : {1e-2, 1e-4, 1e-6}) {
+      const Scene scene = scene_with({{"light", Rectangle{{-0.5, -0.5, h}, {0, 1, 0}, {1, 0, 0}}, {}, 1.0}});
+      const Big H(h), a(0.5), pi = boost::math::constants::pi<Big>();
+      const Big p_light = 1 / (4 * atan(a * a / (H * sqrt(2 * a * a + H * H))));
+      auto weight = [&](const Big& x, const Big& y) {
+        const Big xb = beta == 2 ? x * x : x, yb = beta == 2 ? y * y : y;
+        return xb / (xb + yb);
+      };
+      auto term = [&](int k) {
+        auto g = [&](const Big& c) {
+          const Big p_bsdf = c / pi;
+          switch (k) {
+            case 0: { const Big w = weight(p_bsdf, p_light); return w * w * c * c / p_bsdf; }
+            case 1: { const Big w = weight(p_light, p_bsdf); return w * w * c * c / p_light; }
+            case 2: return weight(p_bsdf, p_light) * c;
+            default: return weight(p_light, p_bsdf) * c;
+          }
+        };
+        auto over_phi = [&](const Big& phi) {
+          const Big T = atan(a / (cos(phi) * H));
+          return integrate([&](const Big& t) { return g(cos(t)) * sin(t); }, Big(0), T);
+        };
+        return 8 * integrate(over_phi, Big(0), pi / 4);
+      };
+      const Big expected = term(0) + term(1) + 2 * term(2) * term(3);
+      const Strategy strategy = beta == 2 ? Strategy::kMisPower : Strategy::kMisBalance;
+      const double m2 = second_moment(strategy, scene, {0, 0, 0}, {0, 0, 1}, size_t(0));
+      const double err = relative_error(m2, expected);
+      EXPECT_LE(err, kSweepTolerance) << "beta " << beta << " h " << h;
+      if (err > worst) worst = err, where = "beta " + std::to_string(beta) + ", h " + std::to_string(h);
+    }
+  print_worst("MIS moments, near square", worst, where);
+}
+
 }  // namespace
 }  // namespace furnace::analytic
