@@ -32,6 +32,15 @@ double disk_irradiance_parallel(double R, double h, double d) {
   return 0.5 * kPi * one_minus_a_over_s(a, S, R, h);
 }
 
+double disk_irradiance_parallel_complement(double R, double h, double d) {
+  (void)disk_irradiance_parallel(R, h, d);  // the same domain check
+  const double S = std::hypot(h, d - R) * std::hypot(h, d + R);
+  const double a = h * h + (d - R) * (d + R);
+  if (a >= 0) return 0.5 * kPi * (1.0 + a / S);
+  const double two_rh = 2.0 * R * h;
+  return 0.5 * kPi * (two_rh / S) * (two_rh / (S - a));  // split so that (2Rh)² cannot overflow
+}
+
 double arc_contour(double h, const Circle2& circle, double t0, double sweep) {
   FURNACE_CHECK(h > 0 && circle.radius >= 0);
   const double r = circle.radius;

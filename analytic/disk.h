@@ -28,6 +28,14 @@ namespace furnace::analytic {
 // h → 0 with d < R gives π; d = 0 gives π·R²/(h² + R²).
 double disk_irradiance_parallel(double R, double h, double d);
 
+// π − disk_irradiance_parallel(R, h, d): the projected solid angle of the
+// hemisphere the disk leaves open, computed directly,
+//   π − E/L = (π/2)·(1 + a/S),
+// with 1 + a/S = 4R²h²/(S(S − a)) when a < 0 (a disk much wider than its
+// height, the near-total blocking case, where π − E would cancel), the plain
+// sum otherwise. Same domain.
+double disk_irradiance_parallel_complement(double R, double h, double d);
+
 // A circle in the emitter plane, in 2-D coordinates whose origin is the foot
 // point of p (the orthogonal projection of p onto the plane).
 struct Circle2 {

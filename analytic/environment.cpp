@@ -8,6 +8,7 @@
 #include "analytic/disk_light.h"
 #include "analytic/environment_map.h"
 #include "analytic/occlusion.h"
+#include "analytic/planar_light.h"
 #include "analytic/polygon.h"
 #include "analytic/sphere.h"
 
@@ -37,9 +38,17 @@ double projected_solid_angle(const Scene& scene, size_t object, const Vec3& p, c
             return sphere_irradiance(s.center - p, s.radius, n);
           },
           [&](const Disk& d) {
-            if (length(cross(normalize(d.normal), n)) > kParallelSine)
-              unsupported_configuration(scene,
-                                        "the disk '" + o.name + "', tilted against the receiver and above its horizon,");
+            if (length(cross(normalize(d.normal), n)) > kParallelSine) {
+              // A tilted disk: its irradiance as a lone two-sided emitter of unit
+              // radiance, by the general planar path (horizon clipping included).
+              Scene alone;
+              alone.name = scene.name;
+              alone.source = scene.source;
+              alone.objects.push_back(o);
+              alone.objects.back().emitted_radiance = 1;
+              alone.objects.back().two_sided = true;
+              return planar_light_irradiance(alone, 0, p, n, std::nullopt);
+            }
             const Vec3 offset = d.center - p;
             const double h = dot(offset, n);
             return disk_irradiance_parallel(d.radius, h, length(offset - n * h));
@@ -83,9 +92,30 @@ double environment_irradiance(const Scene& scene, const Vec3& p, const Vec3& n, 
                                              "' blocked by the object '" + scene.objects[j].name + "'");
     return scene.environment.radiance * map_irradiance(*scene.environment.map, n);
   }
-  double blocked = 0;
-  for (size_t j : environment_blockers(scene, p, n, receiver)) blocked += projected_solid_angle(scene, j, p, n);
-  return scene.environment.radiance * std::fmax(kPi - blocked, 0.0);
+  // The open sky, computed directly where π − Ω⊥ would cancel: the largest
+  // blocker's complement (closed form for a parallel disk, the only blocker
+  // that can cover nearly the whole hemisphere without p inside it) minus the
+  // other blockers' Ω⊥.
+  const std::vector<size_t> blockers = environment_blockers(scene, p, n, receiver);
+  std::vector<double> omega;
+  size_t largest = 0;
+  for (size_t k = 0; k < blockers.size(); ++k) {
+    omega.push_back(projected_solid_angle(scene, blockers[k], p, n));
+    if (omega[k] > omega[largest]) largest = k;
+  }
+  double open = kPi;
+  if (!blockers.empty()) {
+    open = kPi - omega[largest];
+    const Object& o = scene.objects[blockers[largest]];
+    if (const auto* d = std::get_if<Disk>(&o.shape); d && length(cross(normalize(d->normal), n)) <= kParallelSine) {
+      const Vec3 offset = d->center - p;
+      const double h = dot(offset, n);
+      if (h > 0) open = disk_irradiance_parallel_complement(d->radius, h, length(offset - n * h));
+    }
+  }
+  for (size_t k = 0; k < blockers.size(); ++k)
+    if (k != largest) open -= omega[k];
+  return scene.environment.radiance * std::fmax(open, 0.0);
 }
 
 }  // namespace furnace::analytic

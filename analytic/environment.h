@@ -14,8 +14,10 @@ namespace furnace::analytic {
 //   rectangle, triangle: polygon_irradiance (Lambert, clipped to the horizon);
 //   sphere: sphere_irradiance (Snyder, horizon straddle included);
 //   disk parallel to the receiver plane: disk_irradiance_parallel (Howell B-13);
+//   tilted disk: the general planar path (planar_light.h) for the disk as a
+//   lone two-sided emitter of unit radiance;
 //   disk wholly below the horizon: 0.
-// Throws furnace::Error for a tilted disk above the horizon and for p inside a sphere.
+// Throws furnace::Error for p inside a sphere.
 double projected_solid_angle(const Scene& scene, size_t object, const Vec3& p, const Vec3& n);
 
 // The objects above p's horizon other than `receiver`, checked pairwise
@@ -26,6 +28,9 @@ std::vector<size_t> environment_blockers(const Scene& scene, const Vec3& p, cons
 
 // E_env = ∫_{visible sky} L_env cos θ dω at p with unit normal n:
 //   E_env = L_env·(π − Σ_objects Ω⊥(object)),
+// with π − Ω⊥ of the largest blocker computed directly when it is a parallel
+// disk (disk_irradiance_parallel_complement: no cancellation when it hides
+// nearly the whole sky),
 // the sum over the objects above p's horizon other than `receiver`. Exact
 // when no two of them overlap as seen from p; that is checked with their
 // bounding cones (ball of centre c, radius r seen under half-angle

@@ -9,8 +9,10 @@
 
 #include "analytic/disk.h"
 #include "analytic/disk_light.h"
+#include "analytic/error_ledger.h"
 #include "analytic/occlusion.h"
 #include "analytic/polygon.h"
+#include "analytic/small_emitter.h"
 
 namespace furnace::analytic {
 
@@ -73,12 +75,12 @@ double contour_irradiance(const Vec3& origin, const Vec3& e1, const Vec3& e2, co
                           const Vec3& p, const Vec3& n) {
   using boost::math::quadrature::gauss_kronrod;
   auto world = [&](double x, double y) { return origin + e1 * x + e2 * y - p; };  // relative to p
-  double sum = 0;
+  double sum = 0, error = 0;
   for (const Curve2& c : boundary) {
     if (!c.is_arc) {
       // Lambert's edge term Θ·(n·unit(a × b)), Θ by atan2.
       const Vec3 a = world(c.start.x, c.start.y), b = world(c.end.x, c.end.y);
-      const Vec3 axb = cross(a, b);
+      const Vec3 axb = cross(a, b - a);  // = a × b, accurate when a ∥ b
       const double len = length(axb);
       if (len > 0) sum += std::atan2(len, dot(a, b)) * (dot(n, axb) / len);
       continue;
@@ -91,10 +93,14 @@ double contour_irradiance(const Vec3& origin, const Vec3& e1, const Vec3& e2, co
       return dot(n, cross(x, dx)) / length_squared(x);
     };
     const double lo = std::fmin(c.t0, c.t0 + c.sweep), hi = std::fmax(c.t0, c.t0 + c.sweep);
-    const double value = gauss_kronrod<double, 61>::integrate(integrand, lo, hi, 10, 1e-14);
+    double arc_error = 0;
+    const double value = gauss_kronrod<double, 61>::integrate(integrand, lo, hi, 10, 1e-14, &arc_error);
     sum += c.sweep >= 0 ? value : -value;
+    error += arc_error;
   }
-  return 0.5 * std::fabs(sum);
+  const double result = 0.5 * std::fabs(sum);
+  ErrorLedger::report(0.5 * error, result);
+  return result;
 }
 
 namespace {
@@ -246,17 +252,23 @@ double planar_light_irradiance(const Scene& scene, size_t light_index, const Vec
                                std::optional<size_t> receiver) {
   const PlanarSetup setup = setup_planar(scene, light_index, p, n, receiver);
   if (!setup.visible) return 0.0;
-  if (setup.occluders.empty() && !setup.keep) {
-    // Closed forms: Lambert for polygons; Howell's disk when n is parallel to the light.
+  if (setup.occluders.empty()) {
+    // Closed forms: Lambert for polygons (clipped to the horizon, small ones
+    // by the area rule); Howell's disk when n is parallel to the light.
     if (!setup.disk) {
       std::vector<Vec3> relative;
       for (const Vec3& v : setup.light_vertices) relative.push_back(v - p);
       return polygon_irradiance(relative, n);
     }
-    if (length(cross(n, setup.front)) <= kParallelSine) {
+    if (!setup.keep && length(cross(n, setup.front)) <= kParallelSine) {
       const Circle2& c = *setup.light_region.circle;
       return disk_irradiance_parallel(c.radius, setup.h, std::hypot(c.cx, c.cy));
     }
+    // A small tilted disk, horizon-clipped or not: the arc integral's terms
+    // would cancel; the area rule keeps every digit (small_emitter.h).
+    const Vec3 center = setup.disk->center - p;
+    const double R = setup.disk->radius;
+    if (R <= kSmallAngle * (length(center) - R)) return small_disk_irradiance(center, setup.front, R, n);
   }
   const std::vector<Curve2> boundary = exact_visible_boundary(setup.light_region, setup.occluders, setup.keep);
   return contour_irradiance(setup.foot, setup.frame.s, setup.frame.t, boundary, p, n);
@@ -271,7 +283,7 @@ double planar_light_cos2_solid_angle(const Scene& scene, size_t light_index, con
   const Vec3 &e1 = setup.frame.s, &e2 = setup.frame.t;
   const double h = setup.h;
   // Each boundary piece as x(t) (relative to p) and dx/dt, t ∈ [lo, hi], with its direction sign.
-  double sigma = 0, first = 0, second = 0;
+  double sigma = 0, first = 0, second = 0, error = 0;
   for (const Curve2& c : boundary) {
     std::function<Vec3(double)> x_of, dx_of;
     std::function<Point2(double)> q_of, dq_of;  // plane coordinates and derivative
@@ -302,12 +314,16 @@ double planar_light_cos2_solid_angle(const Scene& scene, size_t light_index, con
       const Vec3 xt = x(t);
       return dot(n, xt) / length(xt) * dot(n, cross(xt, dx(t))) / length_squared(xt);
     };
-    sigma += sign * gauss_kronrod<double, 61>::integrate(sigma_integrand, lo, hi, 10, 1e-14);
-    first += sign * gauss_kronrod<double, 61>::integrate(first_integrand, lo, hi, 10, 1e-14);
-    second += sign * gauss_kronrod<double, 61>::integrate(second_integrand, lo, hi, 10, 1e-14);
+    double e_sigma = 0, e_first = 0, e_second = 0;
+    sigma += sign * gauss_kronrod<double, 61>::integrate(sigma_integrand, lo, hi, 10, 1e-14, &e_sigma);
+    first += sign * gauss_kronrod<double, 61>::integrate(first_integrand, lo, hi, 10, 1e-14, &e_first);
+    second += sign * gauss_kronrod<double, 61>::integrate(second_integrand, lo, hi, 10, 1e-14, &e_second);
+    error += e_sigma + e_second;
   }
   const double s = first >= 0 ? 1.0 : -1.0;
-  return (std::fabs(sigma) + s * second) / 3;
+  const double result = (std::fabs(sigma) + s * second) / 3;
+  ErrorLedger::report(error / 3, result);
+  return result;
 }
 
 }  // namespace furnace::analytic

@@ -37,7 +37,11 @@ double contour_irradiance(const Vec3& origin, const Vec3& e1, const Vec3& e2, co
 // an occluder may stand on the receiver plane, but not touch p itself);
 // throws furnace::Error otherwise (tilted disks and spheres project to
 // ellipses, which the circle–segment Booleans do not represent).
-// Returns exactly 0 when nothing is visible.
+// Returns exactly 0 when nothing is visible. With no occluder, polygons go
+// to polygon_irradiance (horizon-clipped Lambert, small ones by the area
+// rule of small_emitter.h) and disks to Howell's form (parallel receiver) or,
+// when small (R ≤ kSmallAngle·(distance − R)), to small_disk_irradiance,
+// horizon-clipped: the contour's boundary terms would cancel there.
 double planar_light_irradiance(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
                                std::optional<size_t> receiver);
 

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "analytic/small_emitter.h"
+
 namespace furnace::analytic {
 
 std::vector<Vec3> clip_to_hemisphere(const std::vector<Vec3>& vertices, const Vec3& n) {
@@ -18,15 +20,26 @@ std::vector<Vec3> clip_to_hemisphere(const std::vector<Vec3>& vertices, const Ve
   return out;
 }
 
+Vec3 polygon_normal(const std::vector<Vec3>& v) {
+  Vec3 area{0, 0, 0};
+  for (size_t i = 1; i + 1 < v.size(); ++i) area = area + cross(v[i] - v[0], v[i + 1] - v[0]);
+  return normalize(area);
+}
+
 double polygon_irradiance(const std::vector<Vec3>& vertices, const Vec3& n) {
   const std::vector<Vec3> clipped = clip_to_hemisphere(vertices, n);
   const size_t count = clipped.size();
   if (count < 3) return 0.0;
+  // Small polygons: Lambert's edge terms would cancel (small_emitter.h).
+  if (polygon_angular_size(clipped) <= kSmallAngle) return small_polygon_irradiance(clipped, n);
   double sum = 0;
   for (size_t i = 0; i < count; ++i) {
     const Vec3& a = clipped[i];
     const Vec3& b = clipped[(i + 1) % count];
-    const Vec3 c = cross(a, b);
+    // a × b as ½(a × (b − a) + (a − b) × b): the edge vector keeps |a × b|
+    // accurate when a ∥ b, and the symmetric form makes the reversed edge's
+    // value its exact negative (the result does not depend on the winding).
+    const Vec3 c = (cross(a, b - a) + cross(a - b, b)) * 0.5;
     const double c_len = length(c);
     if (!(c_len > 0)) continue;  // zero-length edge or an edge whose line passes through p
     sum += std::atan2(c_len, dot(a, b)) * (dot(n, c) / c_len);

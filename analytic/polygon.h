@@ -24,10 +24,17 @@ std::vector<Vec3> clip_to_hemisphere(const std::vector<Vec3>& vertices, const Ve
 // The atan2 angle is accurate for short and nearly straight (Θ ≈ π) edges
 // where acos(v̂_i·v̂_{i+1}) would lose digits. Units: dimensionless (E/L).
 // Accuracy: the sum of edge terms ~ (edge/distance) cancels to
-// ~ (area/distance²), so far or tiny lights lose about log10(distance/size)
-// digits. Domain: p not on the polygon's edges (an edge through p has
+// ~ (area/distance²), losing ~ ε·(distance/size)² relative; polygons with
+// size/distance ≤ kSmallAngle are therefore integrated over their area by a
+// product Gauss rule instead (small_polygon_irradiance, small_emitter.h), so
+// the loss stays ≤ ~ ε·(1/kSmallAngle)² ≈ 2e-14. Domain: p not on the polygon's edges (an edge through p has
 // v_i × v_{i+1} = 0 and is skipped, which is correct when p is not in its
 // interior).
 double polygon_irradiance(const std::vector<Vec3>& vertices, const Vec3& n);
+
+// Unit normal of a planar polygon (≥ 3 vertices, winding as given) from
+// Σ (v_i − v_0) × (v_{i+1} − v_0) (twice its vector area), so that repeated
+// or collinear vertices, as clipping leaves them, do not matter.
+Vec3 polygon_normal(const std::vector<Vec3>& vertices);
 
 }  // namespace furnace::analytic

@@ -1,57 +1,119 @@
-// Integrals over the part of a planar polygon above a receiver's horizon, by
-// nested adaptive quadrature over the polygon's own parameters. Shared by the
-// light-area second moment (light_moments.cpp) and the MIS moments
-// (moments.cpp), which differ only in the integrand.
+// Integrals over the directions to the part of a planar polygon above a
+// receiver's horizon, by nested adaptive quadrature in the polygon plane's
+// spherical coordinates. Used by the MIS moments (moments.cpp).
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
+#include "analytic/error_ledger.h"
+#include "analytic/polygon.h"
 #include "core/adaptive_quadrature.h"
 #include "core/error.h"
 #include "core/vec3.h"
 
 namespace furnace::analytic {
 
-// ∫ f(x, m) dA over the polygon (a parallelogram v0 v1 v2 v3 or a triangle
-// v0 v1 v2, vertices relative to the receiving point p) restricted to n·x > 0,
-// m the polygon's unit normal (winding as given). Parametrisation
-// x(s, t) = a0 + s·a1 + t·(b0 + s·b1), |∂x/∂s × ∂x/∂t| = j0 + s·j1; for fixed s,
-// n·x is linear in t, so the lit t-interval is exact, and s is split where the
-// horizon crosses the edges t = 0 and t = 1. Both levels: Gauss–Kronrod to
-// `rel_tolerance` (core/adaptive_quadrature.h), at most `depth` bisections.
+// ∫ f(u, cos t) dω over the directions u from p to the part of a convex
+// planar polygon (vertices relative to p) above p's horizon, in spherical
+// coordinates (t, φ) about the polygon plane's normal through p: t is the
+// angle between u and the normal (cos t = cos θ' at the point hit, which lies
+// at distance r = h/cos t, h the plane's distance), φ the azimuth about the
+// foot point F. No near-singular kernel remains when p is close to the plane:
+// dω = sin t dt dφ whatever h is. Green's theorem in polar coordinates about
+// F turns the area into a boundary integral ∮ G dφ, G(φ, T) = ∫_0^T f sin t dt
+// up to the boundary's T = atan2(ρ, h); when F is outside the polygon, the
+// complementary ∮ ∫_T^{π/2} f sin t dt dφ is used instead (with the opposite
+// sign: ∮ of the whole ray's integral vanishes around a region not holding F),
+// so the result is not a difference of O(1) terms. Each edge is integrated
+// in its own polar angle ψ about the foot of the perpendicular from F
+// (ρ = d0/cos ψ), the inner t-integral split where the ray crosses the
+// horizon. Both levels: adaptive Gauss–Kronrod (core/adaptive_quadrature.h)
+// to `rel_tolerance`, at most `depth` levels, `outer_bisections` per edge and
+// `inner_bisections` per ray, so at most (2·outer + 1)·31 rays per edge of at
+// most (2·inner + 1)·31 evaluations each (nested caps multiply). The error reached (the outer estimate plus the worst inner
+// relative estimate times the result) is reported to the open ErrorLedger.
+// f is called only with directions above the plane's near side; it must
+// handle the receiver's horizon itself (return 0 where n·u ≤ 0).
 template <class F>
-double polygon_patch_integral(const std::vector<Vec3>& v, const Vec3& n, double rel_tolerance, int depth, F f) {
-  FURNACE_CHECK(v.size() == 3 || v.size() == 4);
-  const Vec3 a0 = v[0], a1 = v[1] - v[0];
-  Vec3 b0{0, 0, 0}, b1{0, 0, 0};
-  double j0 = 0, j1 = 0;
-  if (v.size() == 4) {
-    b0 = v[3] - v[0];
-    j0 = length(cross(a1, b0));
-  } else {
-    b1 = v[2] - v[1];
-    j1 = length(cross(a1, v[2] - v[0]));
+double polygon_direction_integral(const std::vector<Vec3>& vertices, const Vec3& n, double rel_tolerance, int depth,
+                                  size_t outer_bisections, size_t inner_bisections, F f) {
+  const std::vector<Vec3> v = clip_to_hemisphere(vertices, n);
+  const size_t count = v.size();
+  if (count < 3) return 0.0;
+  const Vec3 m = polygon_normal(v);
+  const double signed_h = dot(m, v[0]);
+  const double h = std::fabs(signed_h);
+  if (!(h > 0)) return 0.0;  // p in the plane: the polygon subtends no solid angle
+  const Vec3 axis = signed_h > 0 ? m : -m;  // from p towards the plane
+  const Frame frame = Frame::from_normal(axis);
+  std::vector<double> qx(count), qy(count);
+  for (size_t i = 0; i < count; ++i) qx[i] = dot(v[i], frame.s), qy[i] = dot(v[i], frame.t);
+  // F strictly outside the convex polygon: some edge turns the wrong way about it.
+  double orientation = 0;
+  for (size_t i = 0; i < count; ++i) orientation += qx[i] * qy[(i + 1) % count] - qy[i] * qx[(i + 1) % count];
+  bool outside = false;
+  for (size_t i = 0; i < count; ++i) {
+    const size_t j = (i + 1) % count;
+    const double turn = qx[i] * qy[j] - qy[i] * qx[j];
+    if (orientation * turn < 0 && std::fabs(turn) > 1e-12 * std::hypot(qx[i], qy[i]) * std::hypot(qx[j], qy[j]))
+      outside = true;
   }
-  const Vec3 m = normalize(cross(v[1] - v[0], v[2] - v[0]));
-  auto point = [&](double s, double t) { return a0 + a1 * s + (b0 + b1 * s) * t; };
-  auto inner = [&](double s) {
-    const double f0 = dot(n, point(s, 0)), f1 = dot(n, point(s, 1));
-    if (f0 <= 0 && f1 <= 0) return 0.0;
-    const double lo = f0 < 0 ? f0 / (f0 - f1) : 0.0, hi = f1 < 0 ? f0 / (f0 - f1) : 1.0;
-    auto g = [&](double t) { return f(point(s, t), m); };
-    return (j0 + j1 * s) * adaptive_gauss_kronrod_relative(g, lo, hi, rel_tolerance, depth);
+  const double n_axis = dot(n, axis), n1 = dot(n, frame.s), n2 = dot(n, frame.t);
+  double worst_inner = 0, outer_error = 0;
+  // ∫ f sin t dt over [0, T] (inside) or [T, π/2] (outside) at azimuth (cφ, sφ),
+  // split where n·u = cos t·(n·axis) + sin t·c crosses 0. The outside range
+  // is integrated in s = π/2 − t ∈ [0, atan2(h, ρ)] (cos t = sin s), since
+  // cos t of a t near π/2 carries an absolute error ~ ε that is large
+  // relative to the short range's own cos t ~ h/ρ.
+  auto ray = [&](double c_phi, double s_phi, double rho) {
+    const double c = n1 * c_phi + n2 * s_phi;
+    const Vec3 w = frame.s * c_phi + frame.t * s_phi;
+    // x: t itself (inside) or s = π/2 − t (outside).
+    auto g = [&](double x) {
+      const double ct = outside ? std::sin(x) : std::cos(x), st = outside ? std::cos(x) : std::sin(x);
+      return f(axis * ct + w * st, ct) * st;
+    };
+    const double hi = outside ? std::atan2(h, rho) : std::atan2(rho, h);
+    // n·u = 0 at t = atan2(−n·axis, c), i.e. s = atan2(−c, n·axis) (mod π).
+    const double x_h = outside ? std::atan2(-c, n_axis) : std::atan2(-n_axis, c);
+    double cuts[3] = {0.0, hi, hi};
+    int k = 2;
+    for (double x : {x_h, x_h + kPi, x_h - kPi})
+      if (x > 0 && x < hi) cuts[1] = x, k = 3;
+    double sum = 0, error = 0;
+    for (int i = 0; i + 1 < k; ++i)
+      if (cuts[i + 1] > cuts[i])
+        sum += adaptive_gauss_kronrod_relative(g, cuts[i], cuts[i + 1], rel_tolerance, depth, 1, inner_bisections, &error);
+    if (sum != 0) worst_inner = std::fmax(worst_inner, std::fabs(error / sum));
+    return sum;
   };
-  std::vector<double> cuts{0, 1};
-  for (double t : {0.0, 1.0}) {
-    const double g0 = dot(n, point(0, t)), g1 = dot(n, point(1, t));
-    if ((g0 < 0) != (g1 < 0)) cuts.push_back(g0 / (g0 - g1));
+  double total = 0;
+  for (size_t i = 0; i < count; ++i) {
+    const size_t j = (i + 1) % count;
+    const double ax = qx[i], ay = qy[i], bx = qx[j], by = qy[j];
+    const double ex = bx - ax, ey = by - ay, len = std::hypot(ex, ey);
+    if (!(len > 0)) continue;
+    const double d0 = (ax * ey - ay * ex) / len;  // > 0: counter-clockwise about F
+    if (d0 == 0) continue;                        // the edge's line passes through F: dφ = 0
+    const double sign = d0 > 0 ? 1 : -1;
+    const double px = sign * ey / len, py = -sign * ex / len, tx = ex / len, ty = ey / len;
+    const double dist = std::fabs(d0);
+    const double psi_a = std::atan2(ax * tx + ay * ty, dist), psi_b = std::atan2(bx * tx + by * ty, dist);
+    auto edge = [&](double psi) {
+      const double along = dist * std::tan(psi);
+      const double x = px * dist + tx * along, y = py * dist + ty * along;
+      const double rho = std::hypot(x, y);
+      return ray(x / rho, y / rho, rho);
+    };
+    const double value = adaptive_gauss_kronrod_relative(edge, std::fmin(psi_a, psi_b), std::fmax(psi_a, psi_b),
+                                                         rel_tolerance, depth, 1, outer_bisections, &outer_error);
+    total += (psi_b >= psi_a) == (d0 > 0) ? value : -value;  // dφ = sign(d0)·dψ along the edge
   }
-  std::sort(cuts.begin(), cuts.end());
-  double sum = 0;
-  for (size_t i = 0; i + 1 < cuts.size(); ++i)
-    if (cuts[i + 1] > cuts[i]) sum += adaptive_gauss_kronrod_relative(inner, cuts[i], cuts[i + 1], rel_tolerance, depth);
-  return sum;
+  const double result = std::fabs(total);
+  ErrorLedger::report(outer_error + worst_inner * result, result);
+  return result;
 }
 
 }  // namespace furnace::analytic

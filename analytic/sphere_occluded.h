@@ -28,9 +28,10 @@ namespace furnace::analytic {
 // The φ-integral is adaptive 15-point Gauss–Kronrod (Boost), split at the
 // kinks known in closed form (the planes through a and an occluder vertex,
 // a polygon edge's crossings of the cone, the planes tangent to a disk), with
-// bisection capped in depth for the kinks left over (where an occluder's
-// trace crosses the horizon or the sphere). Target: 1e-12 of the unoccluded
-// value, absolute. Units: dimensionless (E/L). Domain: |c − p| > R; occluders
+// bisection capped in depth and in total count for the kinks left over (where
+// an occluder's trace crosses the horizon or the sphere), so that the cost is
+// bounded; the error estimate reached is reported to the open ErrorLedger
+// (error_ledger.h). Target: 1e-13 of the unoccluded value, absolute. Units: dimensionless (E/L). Domain: |c − p| > R; occluders
 // through p (seen edge-on) block nothing and are skipped.
 double occluded_sphere_irradiance(const Sphere& light, const std::vector<Shape>& occluders, const Vec3& p,
                                   const Vec3& n);

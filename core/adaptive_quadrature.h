@@ -38,19 +38,24 @@ inline constexpr unsigned kDefaultKronrodPoints = 31;
 // value. A cap bounds the cost where the integrand is round-off noise at
 // the scale of the pieces (a support test flickering along a rim), which no
 // depth cap does: there every piece fails and the cost is 2^depth.
+// `error_sum`, when given, receives the sum of the accepted pieces' error
+// estimates (the error the integral reached, whether or not it met the
+// tolerance).
 template <unsigned Points = kDefaultKronrodPoints, class F>
 double adaptive_gauss_kronrod(const F& f, double a, double b, double abs_tolerance, int depth,
-                              size_t* bisections_left = nullptr) {
+                              size_t* bisections_left = nullptr, double* error_sum = nullptr) {
   double error = 0;
   const double value = boost::math::quadrature::gauss_kronrod<double, Points>::integrate(f, a, b, 0, 0.0, &error);
-  if (error * (b - a) / 2 <= abs_tolerance || depth == 0) return value;
-  if (bisections_left != nullptr) {
-    if (*bisections_left == 0) return value;
-    --*bisections_left;
+  const bool stop = error * (b - a) / 2 <= abs_tolerance || depth == 0 ||
+                    (bisections_left != nullptr && *bisections_left == 0);
+  if (stop) {
+    if (error_sum != nullptr) *error_sum += error * (b - a) / 2;
+    return value;
   }
+  if (bisections_left != nullptr) --*bisections_left;
   const double mid = (a + b) / 2;
-  return adaptive_gauss_kronrod<Points>(f, a, mid, abs_tolerance / 2, depth - 1, bisections_left) +
-         adaptive_gauss_kronrod<Points>(f, mid, b, abs_tolerance / 2, depth - 1, bisections_left);
+  return adaptive_gauss_kronrod<Points>(f, a, mid, abs_tolerance / 2, depth - 1, bisections_left, error_sum) +
+         adaptive_gauss_kronrod<Points>(f, mid, b, abs_tolerance / 2, depth - 1, bisections_left, error_sum);
 }
 
 // No cap on the bisections of an integral (the depth alone bounds them).
@@ -61,10 +66,12 @@ inline constexpr size_t kUnlimitedBisections = SIZE_MAX;
 // share the absolute tolerance equally. More than one piece puts the first
 // nodes closer together, so that a narrow feature is less likely to fall
 // between all of them (no error estimate sees what no node samples).
-// `max_bisections` caps the bisections of the whole integral (see above).
+// `max_bisections` caps the bisections of the whole integral (see above);
+// `error_sum` receives the error estimate reached (see above).
 template <unsigned Points = kDefaultKronrodPoints, class F>
 double adaptive_gauss_kronrod_relative(const F& f, double a, double b, double rel_tolerance, int depth,
-                                       int initial_pieces = 1, size_t max_bisections = kUnlimitedBisections) {
+                                       int initial_pieces = 1, size_t max_bisections = kUnlimitedBisections,
+                                       double* error_sum = nullptr) {
   const auto edge = [&](int i) { return i == initial_pieces ? b : a + (b - a) * i / initial_pieces; };
   double first = 0;
   for (int i = 0; i < initial_pieces; ++i) {
@@ -76,7 +83,7 @@ double adaptive_gauss_kronrod_relative(const F& f, double a, double b, double re
   size_t* cap = max_bisections == kUnlimitedBisections ? nullptr : &bisections_left;
   double sum = 0;
   for (int i = 0; i < initial_pieces; ++i)
-    sum += adaptive_gauss_kronrod<Points>(f, edge(i), edge(i + 1), abs_tolerance, depth, cap);
+    sum += adaptive_gauss_kronrod<Points>(f, edge(i), edge(i + 1), abs_tolerance, depth, cap, error_sum);
   return sum;
 }
 

@@ -1,10 +1,14 @@
 #include "verify/analytic_query.h"
 
 #include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <sstream>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "analytic/error_ledger.h"
 #include "analytic/moments.h"
 #include "analytic/reference.h"
 #include "core/error.h"
@@ -31,12 +35,18 @@ std::optional<size_t> receiver_at(const Scene& scene, const Vec3& p, const Vec3&
 std::string answer_analytic_query(const Scene& scene, const AnalyticQuery& q, bool json) {
   const std::optional<size_t> receiver = receiver_at(scene, q.point, q.normal);
   const double albedo = q.albedo ? *q.albedo : (receiver ? scene.objects[*receiver].material.albedo : 1.0);
-  const double e = analytic::irradiance(scene, q.point, q.normal, receiver);
+  double e = 0, e_bound = 0;
+  {
+    const analytic::ErrorLedger ledger;
+    e = analytic::irradiance(scene, q.point, q.normal, receiver);
+    e_bound = ledger.bound(e);
+  }
   const double radiance = albedo * kInvPi * e;
   if (!std::isfinite(e) || !std::isfinite(radiance))
     throw Error(fmt::format("scene file '{}': the exact irradiance at the point is {}, not a finite number (an "
                             "emission, radiance or intensity too large for double precision).",
                             scene.source, e));
+  const double radiance_bound = albedo * kInvPi * e_bound;
 
   nlohmann::ordered_json j;
   j["scene"] = scene.name;
@@ -45,30 +55,50 @@ std::string answer_analytic_query(const Scene& scene, const AnalyticQuery& q, bo
   j["receiver"] = receiver ? scene.objects[*receiver].name : std::string("none");
   j["albedo"] = albedo;
   j["irradiance"] = e;
+  j["irradiance_error_bound"] = e_bound;
   j["radiance"] = radiance;
+  j["radiance_error_bound"] = radiance_bound;
   std::string text = fmt::format(
       "scene {}, point ({:.17g}, {:.17g}, {:.17g}), normal ({:.17g}, {:.17g}, {:.17g}), receiver {}\n"
-      "irradiance E                {:.17g}\n"
-      "radiance (albedo {:.17g})  {:.17g}\n"
-      "single-sample estimators of E: second moment E[Y^2] and variance Var Y = E[Y^2] - E^2\n",
+      "irradiance E                {:.17g} ± {:.2g}\n"
+      "radiance (albedo {:.17g})  {:.17g} ± {:.2g}\n"
+      "single-sample estimators of E: second moment E[Y^2] and variance Var Y = E[Y^2] - E^2 (± error bounds)\n",
       scene.name, q.point.x, q.point.y, q.point.z, q.normal.x, q.normal.y, q.normal.z,
-      j["receiver"].get<std::string>(), e, albedo, radiance);
-  // Every strategy with its own variance model (bsdf shares cosine_hemisphere's).
-  for (const StrategyInfo& est : kStrategyTable) {
-    if (est.variance_model != est.strategy) continue;
+      j["receiver"].get<std::string>(), e, e_bound, albedo, radiance, radiance_bound);
+  // The estimators asked for; by default every strategy with its own
+  // variance model (bsdf shares cosine_hemisphere's).
+  std::vector<Strategy> estimators = q.estimators;
+  if (estimators.empty())
+    for (const StrategyInfo& est_info : kStrategyTable)
+      if (est_info.variance_model == est_info.strategy) estimators.push_back(est_info.strategy);
+  for (const Strategy strategy : estimators) {
+    const StrategyInfo& est = strategy_info(strategy);
     std::string moment_text, variance_text;
     try {
-      const double m2 = analytic::second_moment(est.strategy, scene, q.point, q.normal, receiver);
+      if (!est.variance_model)
+        throw Error(fmt::format("the estimator {} has no single-sample second-moment model in analytic/.", est.name));
+      double m2 = 0, m2_bound = 0;
+      {
+        const analytic::ErrorLedger ledger;
+        m2 = analytic::second_moment(*est.variance_model, scene, q.point, q.normal, receiver);
+        m2_bound = ledger.bound(m2);
+      }
       const double variance = m2 - e * e;
-      j["estimators"][est.name] = {{"second_moment", m2}, {"variance", variance}};
-      moment_text = fmt::format("{:.17g}", m2);
-      variance_text = fmt::format("{:.17g}", variance);
+      // m2 − E²: the bounds of both terms, and the subtraction's own rounding.
+      const double variance_bound = m2_bound + 2 * std::fabs(e) * e_bound + e_bound * e_bound +
+                                    std::numeric_limits<double>::epsilon() * std::fabs(m2);
+      j["estimators"][est.name] = {{"second_moment", m2},
+                                   {"second_moment_error_bound", m2_bound},
+                                   {"variance", variance},
+                                   {"variance_error_bound", variance_bound}};
+      moment_text = fmt::format("{:.17g} ± {:.2g}", m2, m2_bound);
+      variance_text = fmt::format("{:.17g} ± {:.2g}", variance, variance_bound);
     } catch (const Error& err) {
       j["estimators"][est.name] = {{"unsupported", err.what()}};
       moment_text = "unsupported";
       variance_text = err.what();
     }
-    text += fmt::format("  {:<20} E[Y^2] {:<25} Var {}\n", est.name, moment_text, variance_text);
+    text += fmt::format("  {:<20} E[Y^2] {:<34} Var {}\n", est.name, moment_text, variance_text);
   }
   if (json) {
     // Round-trip precision: nlohmann prints doubles with max_digits10 (17).

@@ -327,6 +327,7 @@ int main(int argc, char** argv) {
 
   std::string a_scene;
   std::array<double, 3> a_point{}, a_normal{};
+  std::vector<std::string> a_estimators;
   double a_albedo = 0;
   bool a_json = false;
   auto* analytic_cmd = app.add_subcommand("analytic", "Print the exact irradiance, radiance and estimator moments at a point");
@@ -337,6 +338,10 @@ int main(int argc, char** argv) {
       ->required()->delimiter(',')->check(cli::finite_number().description(""))->type_name("X,Y,Z");
   auto* a_albedo_opt = analytic_cmd->add_option("--albedo", a_albedo, "Lambertian albedo for the radiance (default: the receiver's)")
       ->check(cli::number_in(0.0, 1.0));
+  analytic_cmd->add_option("--estimator", a_estimators,
+                           "Estimator(s) whose second moment and variance to compute (repeatable; default: every "
+                           "strategy with its own variance model)")
+      ->check(CLI::IsMember(strategy_choices()));
   with_contract(analytic_cmd);
   analytic_cmd->add_flag("--json", a_json, "Print JSON");
 
@@ -425,6 +430,7 @@ int main(int argc, char** argv) {
         throw Error(fmt::format("option --normal must be a non-zero finite direction, got {},{},{}.", n.x, n.y, n.z));
       q.normal = normalize(n);
       if (a_albedo_opt->count() > 0) q.albedo = a_albedo;
+      for (const std::string& name : a_estimators) q.estimators.push_back(parse_strategy(name));
       std::fputs(verify::answer_analytic_query(scene, q, a_json).c_str(), stdout);
       return 0;
     }
