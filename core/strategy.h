@@ -136,6 +136,11 @@ enum class Defect {
   kPowerSelectionUniformPmf,
   kOneSampleNoSelectionProb,
   kEnvMissingSinTheta,
+  kBackFaceEmits,
+  kRayOffset1e3,
+  kGrazingEmitterCosine,
+  kConeSamplingFloat,
+  kMisPowerExponent3,
 };
 
 struct DefectInfo {
@@ -143,7 +148,7 @@ struct DefectInfo {
   const char* name;
   const char* description;
 };
-inline constexpr std::array<DefectInfo, 11> kDefectTable = {{
+inline constexpr std::array<DefectInfo, 16> kDefectTable = {{
     {Defect::kNone, "none", "the renderer as it is"},
     {Defect::kDropLightCosine, "drop_light_cosine", "light_area forgets cos θ' (the area to solid angle Jacobian)"},
     {Defect::kPdfOffByConstant, "pdf_off_by_constant", "the weight divides by 1.1 × the true pdf"},
@@ -162,6 +167,15 @@ inline constexpr std::array<DefectInfo, 11> kDefectTable = {{
      "mis_one_sample divides by p_bsdf + p_light, forgetting the selection probabilities c and 1 − c"},
     {Defect::kEnvMissingSinTheta, "env_missing_sin_theta",
      "environment-map rows chosen without the sin θ Jacobian while the weight uses the stated density"},
+    {Defect::kBackFaceEmits, "back_face_emits", "one-sided emitters emit from both sides (every emitter taken as two_sided)"},
+    {Defect::kRayOffset1e3, "ray_offset_1e3",
+     "shadow and continuation rays start 1e-3 along the face-forwarded normal instead of at the surface point"},
+    {Defect::kGrazingEmitterCosine, "grazing_emitter_cosine",
+     "area sampling converts to solid angle with max(cos θ', 0.05), a firefly guard wrong only at grazing emission"},
+    {Defect::kConeSamplingFloat, "cone_sampling_float",
+     "the sphere cone's 1 − cos θmax computed in single precision by subtraction, 1 − sqrtf(1 − sin²θmax)"},
+    {Defect::kMisPowerExponent3, "mis_power_exponent_3",
+     "mis_power weighs with the power heuristic's β = 3 while claiming β = 2: unbiased, but another variance"},
 }};
 constexpr bool every_defect_has_one_row() {
   for (size_t v = 0; v < kDefectTable.size(); ++v) {
