@@ -241,16 +241,16 @@ std::string case_label(const Verdict& v) {
   return label;
 }
 
-// "a 1.2%, b 0.9%, …": the `count` cases with the largest finite value of `detect`.
+// "a 1.2%, b 0.9%, …": the `count` cases with the largest `detect`. Cases
+// where it is not finite are left out: an exact (zero-variance) case is
+// tested for exact agreement, where no relative error is quoted.
 std::string weakest(const std::vector<Verdict>& verdicts, double Verdict::*detect, bool (*applies)(const Verdict&),
                     size_t count) {
   std::vector<const Verdict*> cases;
   for (const Verdict& v : verdicts)
-    if (applies(v)) cases.push_back(&v);
-  std::stable_sort(cases.begin(), cases.end(), [&](const Verdict* a, const Verdict* b) {
-    const double x = a->*detect, y = b->*detect;
-    return std::isfinite(x) && std::isfinite(y) ? x > y : !std::isfinite(x) && std::isfinite(y);
-  });
+    if (applies(v) && std::isfinite(v.*detect)) cases.push_back(&v);
+  std::stable_sort(cases.begin(), cases.end(),
+                   [&](const Verdict* a, const Verdict* b) { return a->*detect > b->*detect; });
   std::string out;
   for (size_t i = 0; i < std::min(count, cases.size()); ++i)
     out += fmt::format("{}{} {:.3g}%", i ? ", " : "", case_label(*cases[i]), 100 * (cases[i]->*detect));
@@ -271,8 +271,11 @@ std::string format_table(const std::vector<Verdict>& verdicts, double family_alp
     std::string strategy = v.strategy;
     if (v.defect != "none") strategy += "+" + v.defect;
     const VerdictKind kind = verdict_kind(v);
+    // "exact": a zero predicted variance, tested for exact agreement.
     const std::string variance_detect =
-        v.variance_tested ? fmt::format("{:.3g}%", 100 * v.variance_detectable_rel_error) : std::string("-");
+        !v.variance_tested ? std::string("-")
+        : std::isfinite(v.variance_detectable_rel_error) ? fmt::format("{:.3g}%", 100 * v.variance_detectable_rel_error)
+                                                         : std::string("exact");
     out += fmt::format("{:<22} {:<24} {:>6} {:>10.6g} {:>10.6g} {:>7.3f} {:>6.2f} {:>4}/{:<4} {:>7} {:>9.3g} {:>8.3g}% {:>8.3g}% {:>10} {:>7.3f} {:>10.3g}  {}\n",
                        v.scene, strategy, v.spp, v.image_mean, v.reference_mean, v.z, v.threshold,
                        v.pixel_failures, v.pixels, v.pixels_untested,

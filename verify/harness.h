@@ -110,7 +110,8 @@ inline constexpr size_t kWeakestCasesListed = 5;
 // Formats the verdict table: one row per case with the smallest relative bias
 // its image-mean test detects (`detect`), the median of the same per pixel
 // (`px detect`) and the smallest relative error of the summed variance its
-// variance test detects (`var detect`, "-" when not tested), each at power
+// variance test detects (`var detect`; "-" when not tested, "exact" when the
+// predicted variance is 0 and the test is one of exact agreement), each at power
 // kReportedPower; a line per failed case saying which kind of failure it is;
 // and a summary naming the kWeakestCasesListed cases with the largest
 // `detect` and `var detect`.
