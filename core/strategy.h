@@ -138,6 +138,11 @@ enum class Defect {
   kEnvMissingSinTheta,
   kPhongWrongNormalisation,
   kNanSample,
+  kBackFaceEmits,
+  kRayOffset1e3,
+  kGrazingEmitterCosine,
+  kConeSamplingFloat,
+  kMisPowerExponent3,
 };
 
 struct DefectInfo {
@@ -145,7 +150,7 @@ struct DefectInfo {
   const char* name;
   const char* description;
 };
-inline constexpr std::array<DefectInfo, 13> kDefectTable = {{
+inline constexpr std::array<DefectInfo, 18> kDefectTable = {{
     {Defect::kNone, "none", "the renderer as it is"},
     {Defect::kDropLightCosine, "drop_light_cosine", "light_area forgets cos θ' (the area to solid angle Jacobian)"},
     {Defect::kPdfOffByConstant, "pdf_off_by_constant", "the weight divides by 1.1 × the true pdf"},
@@ -167,6 +172,15 @@ inline constexpr std::array<DefectInfo, 13> kDefectTable = {{
     {Defect::kPhongWrongNormalisation, "phong_wrong_normalisation",
      "Phong eval normalised by (n+1)/(2π), the sampling density's constant, instead of (n+2)/(2π)"},
     {Defect::kNanSample, "nan_sample", "one sample in 1024 runs away to NaN (counted, and a failure by default)"},
+    {Defect::kBackFaceEmits, "back_face_emits", "one-sided emitters emit from both sides (every emitter taken as two_sided)"},
+    {Defect::kRayOffset1e3, "ray_offset_1e3",
+     "shadow and continuation rays start 1e-3 along the face-forwarded normal instead of at the surface point"},
+    {Defect::kGrazingEmitterCosine, "grazing_emitter_cosine",
+     "area sampling converts to solid angle with max(cos θ', 0.05), a firefly guard wrong only at grazing emission"},
+    {Defect::kConeSamplingFloat, "cone_sampling_float",
+     "the sphere cone's 1 − cos θmax computed in single precision by subtraction, 1 − sqrtf(1 − sin²θmax)"},
+    {Defect::kMisPowerExponent3, "mis_power_exponent_3",
+     "mis_power weighs with the power heuristic's β = 3 while claiming β = 2: unbiased, but another variance"},
 }};
 constexpr bool every_defect_has_one_row() {
   for (size_t v = 0; v < kDefectTable.size(); ++v) {

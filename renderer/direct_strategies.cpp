@@ -67,6 +67,13 @@ MisWeights mis_weights(const MisPdfs& pdfs, int beta, Defect defect) {
     if (!(larger > 0)) return {};
     return {std::pow(pdfs.p_bsdf / larger, beta), std::pow(pdfs.p_light / larger, beta)};
   }
+  if (defect == Defect::kMisPowerExponent3 && beta == 2) {
+    // DEFECT(mis_power_exponent_3): β = 3 where β = 2 is claimed. The weights
+    // still sum to 1 (unbiased); the variance is another estimator's.
+    const double a = std::pow(pdfs.p_bsdf, 3), b = std::pow(pdfs.p_light, 3);
+    if (!(a + b > 0)) return {};
+    return {a / (a + b), b / (a + b)};
+  }
   return {mis_weight(pdfs.p_bsdf, pdfs.p_light, beta), mis_weight(pdfs.p_light, pdfs.p_bsdf, beta)};
 }
 
@@ -88,7 +95,7 @@ double DirectLighting::estimate_direction(const DirectionStrategy& strategy, con
                                           TraceCounters& counters) const {
   const auto s = strategy.sample(ctx, next_uniform3(rng));
   if (!s || s->weight == 0) return 0.0;  // nothing to trace for a zero weight
-  const auto hit = trace_from(scene_, ctx, s->wi_world, counters);
+  const auto hit = trace_from(scene_, ctx, s->wi_world, counters, defect_);
   return s->weight * emitted_radiance_towards(scene_.scene(), hit, s->wi_world);
 }
 
@@ -103,7 +110,7 @@ double DirectLighting::estimate_mis(const ShadingContext& ctx, Rng& rng, TraceCo
   double estimate = 0;
   // One BSDF sample, weighted against the light strategy's density for the same direction.
   if (const auto s = bsdf.sample(ctx, next_uniform3(rng)); s && s->weight != 0) {
-    const auto hit = trace_from(scene_, ctx, s->wi_world, counters);
+    const auto hit = trace_from(scene_, ctx, s->wi_world, counters, defect_);
     const double le = emitted_radiance_towards(scene_.scene(), hit, s->wi_world);
     if (le > 0) {
       const double w =
@@ -133,7 +140,7 @@ double DirectLighting::estimate_one_sample(const ShadingContext& ctx, Rng& rng, 
   if (rng.next_double() < kOneSampleBsdfProbability) {
     const auto s = bsdf.sample(ctx, next_uniform3(rng));
     if (!s || s->weight == 0) return 0.0;
-    const auto hit = trace_from(scene_, ctx, s->wi_world, counters);
+    const auto hit = trace_from(scene_, ctx, s->wi_world, counters, defect_);
     const double le = emitted_radiance_towards(scene_.scene(), hit, s->wi_world);
     if (!(le > 0)) return 0.0;
     // A delta lobe: only this strategy covers it, chosen with probability c.

@@ -87,13 +87,24 @@ inline double pdf_in_weight(double pdf_solid_angle, Defect defect) {
   return defect == Defect::kPdfOffByConstant ? kDefectPdfFactor * pdf_solid_angle : pdf_solid_angle;
 }
 
-// Traces the ray of a sampled direction from the shading point itself (the
-// scene's intersection filter keeps it off the surface it leaves); returns
-// the first hit (empty on escape). Counts one ray.
+// DEFECT(ray_offset_1e3): rays leave a surface from a point moved this far
+// along its normal (face-forwarded towards the ray), a fixed absolute epsilon,
+// so they pass over anything closer to the surface than that.
+inline constexpr double kDefectRayOffset = 1e-3;
+// Origin of a ray (a continuation or a shadow ray) leaving `point`, on a
+// surface of front normal `normal`, towards `direction`: the point itself
+// (the intersection filters keep the ray off its own surface).
+inline Vec3 ray_origin(const Vec3& point, const Vec3& normal, const Vec3& direction, Defect defect) {
+  if (defect != Defect::kRayOffset1e3) return point;
+  return point + (dot(normal, direction) >= 0 ? normal : -normal) * kDefectRayOffset;
+}
+
+// Traces the ray of a sampled direction from the shading point; returns the
+// first hit (empty on escape). Counts one ray.
 inline std::optional<SurfaceHit> trace_from(const EmbreeScene& scene, const ShadingContext& ctx, const Vec3& wi_world,
-                                            TraceCounters& counters) {
+                                            TraceCounters& counters, Defect defect = Defect::kNone) {
   ++counters.rays;
-  return scene.intersect(ctx.point, wi_world);
+  return scene.intersect(ray_origin(ctx.point, ctx.normal, wi_world, defect), wi_world);
 }
 
 // MIS weight of strategy a against b (one sample each), β = 1 (balance) or 2 (power).

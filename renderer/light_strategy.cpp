@@ -29,10 +29,24 @@ double light_cosine(const Vec3& light_normal, const Vec3& wi, bool two_sided) {
   return two_sided ? std::fabs(c) : c;
 }
 
+// DEFECT(cone_sampling_float): the cone of a sphere as a single-precision
+// renderer computes it, cos θmax = sqrtf(1 − sin²θmax) and 1 − cos θmax by
+// subtraction in float: nothing is left of 1 − cos θmax below ~6e-8 (a sphere
+// under ~4e-7 sr), and it is off by tens of percent up to ~1e-6 sr.
+ConeAperture float_cone_aperture(double sin2_theta_max) {
+  const float cos_theta_max = std::sqrt(1.0f - float(sin2_theta_max));
+  return {double(cos_theta_max), double(1.0f - cos_theta_max)};
+}
+
+// DEFECT(grazing_emitter_cosine): the smallest cos θ' the area-to-solid-angle
+// conversion uses, a firefly guard that changes the density only where the
+// light is seen within 2.9° of edge-on.
+constexpr double kDefectGrazingCosine = 0.05;
+
 // `self`: the shading point lies on this emitter. A sphere cannot use its cone
 // from its own surface (only a two-sided sphere seen from inside sees itself,
 // and area sampling covers that).
-EmitterMethod emitter_method(const Object& emitter, const Vec3& p, EmitterSampling mode, bool self) {
+EmitterMethod emitter_method(const Object& emitter, const Vec3& p, EmitterSampling mode, bool self, Defect defect) {
   const Shape& shape = emitter.shape;
   if (mode == EmitterSampling::kArea || self) return std::monostate{};
   // A two-sided planar light seen from behind is sampled as its mirror-oriented twin.
@@ -43,7 +57,10 @@ EmitterMethod emitter_method(const Object& emitter, const Vec3& p, EmitterSampli
             const double d2 = length_squared(to_center);
             const double r2 = s.radius * s.radius;
             if (!(d2 > r2)) return std::monostate{};  // inside or on the sphere: no cone, area sampling
-            return ConeSetup{s, Frame::from_normal(to_center / std::sqrt(d2)), ConeAperture::from_sin2(r2 / d2)};
+            const Frame frame = Frame::from_normal(to_center / std::sqrt(d2));
+            if (defect == Defect::kConeSamplingFloat)
+              return ConeSetup{s, frame, float_cone_aperture(r2 / d2)};  // DEFECT(cone_sampling_float)
+            return ConeSetup{s, frame, ConeAperture::from_sin2(r2 / d2)};
           },
           [&](const Triangle& t) -> EmitterMethod {
             const bool flip = emitter.two_sided && dot(p - t.p0, t.normal()) < 0;
@@ -65,12 +82,15 @@ EmitterMethod emitter_method(const Object& emitter, const Vec3& p, EmitterSampli
 // (point, normal), under `method`, excluding the light selection pmf.
 // The one helper both LightStrategy::sample and LightStrategy::pdf use.
 double emitter_pdf_solid_angle(const EmitterMethod& method, const Object& emitter, const Vec3& p, const Vec3& wi,
-                               const Vec3& point, const Vec3& normal) {
+                               const Vec3& point, const Vec3& normal, Defect defect) {
   // The solid-angle methods exist only for viewpoints in front of the light
   // (emitter_method), so every direction they cover meets its emitting side;
   // no cos θ' test for them, which round-off would fail at a sphere's silhouette.
   return std::visit(overloaded{[&](std::monostate) {
-                                 const double cos_light = light_cosine(normal, wi, emitter.two_sided);
+                                 double cos_light = light_cosine(normal, wi, emitter.two_sided);
+                                 // DEFECT(grazing_emitter_cosine): cos θ' raised to kDefectGrazingCosine where it is smaller.
+                                 if (defect == Defect::kGrazingEmitterCosine && cos_light > 0)
+                                   cos_light = std::fmax(cos_light, kDefectGrazingCosine);
                                  return solid_angle_pdf_from_area(shape_area_pdf(emitter.shape),
                                                                   length_squared(point - p), cos_light);
                                },
@@ -157,7 +177,7 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     s.wi_world = to_light / std::sqrt(distance_squared);
     s.delta = true;
     s.radiance = point.intensity / distance_squared;
-    s.shadow_origin = ctx.point;
+    s.shadow_origin = ray_origin(ctx.point, ctx.normal, s.wi_world, defect);  // DEFECT(ray_offset_1e3) inside
     const Vec3 segment = point.position - s.shadow_origin;
     s.shadow_t_max = length(segment);
     if (!(s.shadow_t_max > 0)) return std::nullopt;
@@ -184,7 +204,7 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     }
     s.pdf_solid_angle = pmf * environment_pdf;
     s.radiance = environment_radiance(scene->scene().environment, s.wi_world);
-    s.shadow_origin = ctx.point;
+    s.shadow_origin = ray_origin(ctx.point, ctx.normal, s.wi_world, defect);  // DEFECT(ray_offset_1e3) inside
     s.shadow_direction = s.wi_world;
     s.shadow_t_max = std::numeric_limits<double>::infinity();
     pdf_for_weight = pmf_in_weight * environment_pdf;
@@ -193,15 +213,15 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     const Object& emitter = scene->scene().objects[object];
     const bool self = object == ctx.object;
     // A flat light cannot light its own points (they see it edge-on).
-    if (self && is_planar(emitter.shape)) return std::nullopt;
-    const EmitterMethod method = emitter_method(emitter, ctx.point, emitter_sampling, self);
+    if (self && !std::holds_alternative<Sphere>(emitter.shape)) return std::nullopt;
+    const EmitterMethod method = emitter_method(emitter, ctx.point, emitter_sampling, self, defect);
     const auto q = sample_emitter_point(method, emitter.shape, ctx.point, u[1], u[2]);
     if (!q) return std::nullopt;
     const Vec3 to_light = q->point - ctx.point;
     const double distance_squared = length_squared(to_light);
     if (!(distance_squared > 0)) return std::nullopt;
     s.wi_world = q->direction ? *q->direction : to_light / std::sqrt(distance_squared);
-    const double emitter_pdf = emitter_pdf_solid_angle(method, emitter, ctx.point, s.wi_world, q->point, q->normal);
+    const double emitter_pdf = emitter_pdf_solid_angle(method, emitter, ctx.point, s.wi_world, q->point, q->normal, defect);
     s.pdf_solid_angle = pmf * emitter_pdf;
     s.radiance = emitter.emitted_radiance;
     pdf_for_weight = pmf_in_weight * emitter_pdf;
@@ -209,9 +229,8 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     if (defect == Defect::kDropLightCosine && std::holds_alternative<std::monostate>(method) &&
         light_cosine(q->normal, s.wi_world, emitter.two_sided) > 0)
       pdf_for_weight = pmf_in_weight * solid_angle_pdf_from_area(shape_area_pdf(emitter.shape), distance_squared, 1.0);
-    // Shadow ray between the two surface points themselves: the scene's
-    // intersection filter keeps it off the surfaces at both ends (embree_scene.h).
-    s.shadow_origin = ctx.point;
+    if (self && is_planar(emitter.shape)) return std::nullopt;
+    const EmitterMethod method = emitter_method(emitter, ctx.point, emitter_sampling, self, defect);
     const Vec3 segment = q->point - s.shadow_origin;
     s.shadow_t_max = length(segment);
     s.shadow_direction = segment / s.shadow_t_max;
@@ -238,8 +257,8 @@ double LightStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_world, const
   if (!o.is_emitter() || !(hit->front_facing || o.two_sided)) return 0.0;
   const bool self = hit->object == ctx.object;
   if (self && is_planar(o.shape)) return 0.0;  // as in sample()
-  const EmitterMethod method = emitter_method(o, ctx.point, emitter_sampling, self);
-  return pmf * emitter_pdf_solid_angle(method, o, ctx.point, wi_world, hit->point, hit->normal);
+  const EmitterMethod method = emitter_method(o, ctx.point, emitter_sampling, self, defect);
+  return pmf * emitter_pdf_solid_angle(method, o, ctx.point, wi_world, hit->point, hit->normal, defect);
 }
 
 double delta_light_mis_weight(const LightSample& s, double p_bsdf, Defect defect) {

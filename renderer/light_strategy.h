@@ -7,6 +7,7 @@
 // convention of estimator.h (weight = f·cos θi/pdf).
 //
 // NEGATIVE CONTROLS: DEFECT(drop_light_cosine), DEFECT(skip_shadow_ray),
+// DEFECT(grazing_emitter_cosine), DEFECT(cone_sampling_float),
 // DEFECT(pdf_off_by_constant), DEFECT(power_selection_uniform_pmf) and
 // DEFECT(point_light_mis_weighted) are implemented here at lines so marked.
 #pragma once

@@ -73,7 +73,7 @@ double PathTracer::radiance(const Vec3& direction, const std::optional<SurfaceHi
       if (defect_ != Defect::kRouletteNoReweight) throughput /= survive;
     }
 
-    hit = trace_from(scene_, ctx, s->wi_world, counters);
+    hit = trace_from(scene_, ctx, s->wi_world, counters, defect_);
     wi_world = s->wi_world;
     previous = ctx;
     previous_pdf_bsdf = s->pdf_solid_angle;

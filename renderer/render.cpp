@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <variant>
 
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
@@ -32,6 +33,17 @@ constexpr size_t kPixelGrain = 1;
 }  // namespace
 
 Image render(const Scene& scene, const RenderOptions& options) {
+  // DEFECT(back_face_emits): every planar emitter taken as two-sided, so a
+  // one-sided light also emits from its back. (A sphere's back is its inside,
+  // which no point outside it sees: spheres are left as they are.)
+  if (options.defect == Defect::kBackFaceEmits) {
+    Scene both_sides = scene;
+    for (Object& o : both_sides.objects)
+      if (o.is_emitter() && !std::holds_alternative<Sphere>(o.shape)) o.two_sided = true;
+    RenderOptions rest = options;
+    rest.defect = Defect::kNone;
+    return render(both_sides, rest);
+  }
   const auto start = std::chrono::steady_clock::now();
   if (options.spp < 1) throw Error(fmt::format("render option spp must be at least 1, got {}.", options.spp));
   if (options.threads < 0)

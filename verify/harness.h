@@ -78,12 +78,27 @@ struct Verdict {
   double variance_z = 0;           // aggregate (Σ s² − Σ σ²)/√(Σ Var s²)
   double variance_detectable_rel_error = 0;  // of the aggregate, at kReportedPower
   int variance_pixel_failures = 0;
+  bool variance_pass = true;       // the aggregate variance test (true when not tested)
   double rmse = 0;                  // √(mean over pixels of (estimate − reference)²)
   uint64_t nonfinite_samples = 0;
   double seconds = 0;               // render wall time
   double samples_per_second = 0;
   bool pass = false;
+  // The mean tests alone: every pixel test, the image-mean test, no
+  // non-finite sample.
+  bool mean_pass = false;
 };
+
+// What a verdict says, keeping the two kinds of failure apart: a failed mean
+// test means the estimator is biased; a failed variance test with passing
+// mean tests means it converges to the right answer but is not the estimator
+// its name claims (its variance is another estimator's: a power heuristic
+// with another exponent, a different sampling density).
+enum class VerdictKind { kPass, kBiased, kVarianceMismatch };
+VerdictKind verdict_kind(const Verdict& v);
+// One line: "pass", "biased: …" or "unbiased, but variance differs from its
+// model (not the estimator it claims to be)".
+std::string verdict_explanation(VerdictKind kind);
 
 // Runs one case. `per_case_alpha` is the family-wise level of this case's
 // P + 1 mean tests (P pixel tests and the image-mean test) and, where the
@@ -107,7 +122,17 @@ void require_finite_reference(const std::vector<double>& reference, const Scene&
 
 std::string scene_dir();
 
-// Formats the verdict table.
+// How many of the least powerful cases the table's summary names, per test.
+inline constexpr size_t kWeakestCasesListed = 5;
+
+// Formats the verdict table: one row per case with the smallest relative bias
+// its image-mean test detects (`detect`), the median of the same per pixel
+// (`px detect`) and the smallest relative error of the summed variance its
+// variance test detects (`var detect`; "-" when not tested, "exact" when the
+// predicted variance is 0 and the test is one of exact agreement), each at power
+// kReportedPower; a line per failed case saying which kind of failure it is;
+// and a summary naming the kWeakestCasesListed cases with the largest
+// `detect` and `var detect`.
 std::string format_table(const std::vector<Verdict>& verdicts, double family_alpha);
 
 }  // namespace furnace::verify
