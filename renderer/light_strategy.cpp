@@ -213,7 +213,7 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     const Object& emitter = scene->scene().objects[object];
     const bool self = object == ctx.object;
     // A flat light cannot light its own points (they see it edge-on).
-    if (self && !std::holds_alternative<Sphere>(emitter.shape)) return std::nullopt;
+    if (self && is_planar(emitter.shape)) return std::nullopt;
     const EmitterMethod method = emitter_method(emitter, ctx.point, emitter_sampling, self, defect);
     const auto q = sample_emitter_point(method, emitter.shape, ctx.point, u[1], u[2]);
     if (!q) return std::nullopt;
@@ -229,8 +229,9 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     if (defect == Defect::kDropLightCosine && std::holds_alternative<std::monostate>(method) &&
         light_cosine(q->normal, s.wi_world, emitter.two_sided) > 0)
       pdf_for_weight = pmf_in_weight * solid_angle_pdf_from_area(shape_area_pdf(emitter.shape), distance_squared, 1.0);
-    if (self && is_planar(emitter.shape)) return std::nullopt;
-    const EmitterMethod method = emitter_method(emitter, ctx.point, emitter_sampling, self, defect);
+    // Shadow ray from the shading point to the light point (the intersection
+    // filters keep it off both surfaces).
+    s.shadow_origin = ray_origin(ctx.point, ctx.normal, s.wi_world, defect);  // DEFECT(ray_offset_1e3) inside
     const Vec3 segment = q->point - s.shadow_origin;
     s.shadow_t_max = length(segment);
     s.shadow_direction = segment / s.shadow_t_max;
