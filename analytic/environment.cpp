@@ -41,13 +41,7 @@ double projected_solid_angle(const Scene& scene, size_t object, const Vec3& p, c
             if (length(cross(normalize(d.normal), n)) > kParallelSine) {
               // A tilted disk: its irradiance as a lone two-sided emitter of unit
               // radiance, by the general planar path (horizon clipping included).
-              Scene alone;
-              alone.name = scene.name;
-              alone.source = scene.source;
-              alone.objects.push_back(o);
-              alone.objects.back().emitted_radiance = 1;
-              alone.objects.back().two_sided = true;
-              return planar_light_irradiance(alone, 0, p, n, std::nullopt);
+              return planar_light_irradiance(as_lone_unit_emitter(scene, object), 0, p, n, std::nullopt);
             }
             const Vec3 offset = d.center - p;
             const double h = dot(offset, n);

@@ -8,6 +8,7 @@
 
 #include "analytic/error_ledger.h"
 #include "analytic/polygon.h"
+#include "analytic/polygon_patch.h"
 #include "analytic/small_emitter.h"
 #include "core/adaptive_quadrature.h"
 #include "core/error.h"
@@ -226,23 +227,9 @@ double polygon_area_kernel(const std::vector<Vec3>& vertices, const Vec3& n) {
   const size_t count = clipped.size();
   std::vector<double> qx(count), qy(count);
   for (size_t i = 0; i < count; ++i) qx[i] = dot(clipped[i], f.s), qy[i] = dot(clipped[i], f.t);
-  // F strictly outside the (convex) polygon: some edge turns the wrong way
-  // about F. Then ∮ G∞ dφ = 0 exactly and is skipped (its edge terms would
-  // cancel from ~ 1/h⁴ down to nothing). The margin keeps F on or within
-  // rounding of the boundary on the side of the closed forms, which are
-  // correct anywhere.
-  double orientation = 0;
-  for (size_t i = 0; i < count; ++i) {
-    const size_t j = (i + 1) % count;
-    orientation += qx[i] * qy[j] - qy[i] * qx[j];
-  }
-  bool outside = false;
-  for (size_t i = 0; i < count; ++i) {
-    const size_t j = (i + 1) % count;
-    const double turn = qx[i] * qy[j] - qy[i] * qx[j];
-    if (orientation * turn < 0 && std::fabs(turn) > 1e-12 * std::hypot(qx[i], qy[i]) * std::hypot(qx[j], qy[j]))
-      outside = true;
-  }
+  // F strictly outside the (convex) polygon: ∮ G∞ dφ = 0 exactly and is
+  // skipped (its edge terms would cancel from ~ 1/h⁴ down to nothing).
+  const bool outside = foot_point_outside_convex(qx, qy);
   double sum = 0, error = 0;
   for (size_t i = 0; i < count; ++i) {
     const size_t j = (i + 1) % count;

@@ -62,13 +62,7 @@ double blocker_cos2_solid_angle(const Scene& scene, size_t j, const Vec3& p, con
                    if (length(cross(normalize(d.normal), n)) > 1e-12) {
                      // A tilted disk: the general planar path for the disk as a lone
                      // two-sided emitter (as projected_solid_angle does for E).
-                     Scene alone;
-                     alone.name = scene.name;
-                     alone.source = scene.source;
-                     alone.objects.push_back(o);
-                     alone.objects.back().emitted_radiance = 1;
-                     alone.objects.back().two_sided = true;
-                     return planar_light_cos2_solid_angle(alone, 0, p, n, std::nullopt);
+                     return planar_light_cos2_solid_angle(as_lone_unit_emitter(scene, j), 0, p, n, std::nullopt);
                    }
                    const Vec3 offset = d.center - p;
                    const double h = dot(offset, n);

@@ -326,4 +326,14 @@ double planar_light_cos2_solid_angle(const Scene& scene, size_t light_index, con
   return result;
 }
 
+Scene as_lone_unit_emitter(const Scene& scene, size_t object) {
+  Scene alone;
+  alone.name = scene.name;
+  alone.source = scene.source;
+  alone.objects.push_back(scene.objects[object]);
+  alone.objects.back().emitted_radiance = 1;
+  alone.objects.back().two_sided = true;
+  return alone;
+}
+
 }  // namespace furnace::analytic

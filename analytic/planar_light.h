@@ -56,4 +56,9 @@ double planar_light_irradiance(const Scene& scene, size_t light_index, const Vec
 double planar_light_cos2_solid_angle(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
                                      std::optional<size_t> receiver);
 
+// The object `object` of `scene` alone, as a two-sided emitter of unit
+// radiance: its irradiance and cos² kernel through the functions above are
+// the solid-angle measures of a blocker (a tilted disk hiding the sky).
+Scene as_lone_unit_emitter(const Scene& scene, size_t object);
+
 }  // namespace furnace::analytic

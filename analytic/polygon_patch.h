@@ -15,6 +15,24 @@
 
 namespace furnace::analytic {
 
+// Whether the origin F lies strictly outside the convex polygon (qx[i],
+// qy[i]) of either orientation: some edge turns the wrong way about F. The
+// margin (a turn below 1e-12 of its two radii's product counts as none)
+// keeps F on, or within rounding of, the boundary on the inside, where the
+// callers' inside forms are correct anyway.
+inline bool foot_point_outside_convex(const std::vector<double>& qx, const std::vector<double>& qy) {
+  const size_t count = qx.size();
+  double orientation = 0;
+  for (size_t i = 0; i < count; ++i) orientation += qx[i] * qy[(i + 1) % count] - qy[i] * qx[(i + 1) % count];
+  for (size_t i = 0; i < count; ++i) {
+    const size_t j = (i + 1) % count;
+    const double turn = qx[i] * qy[j] - qy[i] * qx[j];
+    if (orientation * turn < 0 && std::fabs(turn) > 1e-12 * std::hypot(qx[i], qy[i]) * std::hypot(qx[j], qy[j]))
+      return true;
+  }
+  return false;
+}
+
 // ∫ f(u, cos t) dω over the directions u from p to the part of a convex
 // planar polygon (vertices relative to p) above p's horizon, in spherical
 // coordinates (t, φ) about the polygon plane's normal through p: t is the
@@ -50,16 +68,7 @@ double polygon_direction_integral(const std::vector<Vec3>& vertices, const Vec3&
   const Frame frame = Frame::from_normal(axis);
   std::vector<double> qx(count), qy(count);
   for (size_t i = 0; i < count; ++i) qx[i] = dot(v[i], frame.s), qy[i] = dot(v[i], frame.t);
-  // F strictly outside the convex polygon: some edge turns the wrong way about it.
-  double orientation = 0;
-  for (size_t i = 0; i < count; ++i) orientation += qx[i] * qy[(i + 1) % count] - qy[i] * qx[(i + 1) % count];
-  bool outside = false;
-  for (size_t i = 0; i < count; ++i) {
-    const size_t j = (i + 1) % count;
-    const double turn = qx[i] * qy[j] - qy[i] * qx[j];
-    if (orientation * turn < 0 && std::fabs(turn) > 1e-12 * std::hypot(qx[i], qy[i]) * std::hypot(qx[j], qy[j]))
-      outside = true;
-  }
+  const bool outside = foot_point_outside_convex(qx, qy);
   const double n_axis = dot(n, axis), n1 = dot(n, frame.s), n2 = dot(n, frame.t);
   double worst_inner = 0, outer_error = 0;
   // ∫ f sin t dt over [0, T] (inside) or [T, π/2] (outside) at azimuth (cφ, sφ),
