@@ -5,10 +5,10 @@
 // (no old scene has a Phong surface, so the old suite cannot see it).
 // The correct glossy cases are in the default suite (strategy_verification_test.cpp).
 //
-// Budget and levels: each case renders 16×16 pixels at kSpp samples per pixel
-// with the fixed seed kSeed; its 256 pixel tests, image-mean test (and, without
-// a defect, variance test) share kCaseAlpha by the Šidák correction
-// (verify/harness.cpp). The controls' verdicts print their z and detectable bias.
+// Budget and levels (tests/integration/builtin_case.h): each case renders
+// 16×16 pixels at kSpp samples per pixel with the fixed seed kSeed; its 256
+// pixel tests, image-mean test and variance test share kCaseAlpha by the
+// Šidák correction (verify/harness.cpp). The controls' verdicts print their z and detectable bias.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,35 +16,25 @@
 #include <string>
 
 #include "renderer/render.h"
+#include "tests/integration/builtin_case.h"
 #include "verify/harness.h"
 
 namespace furnace::verify {
 namespace {
 
-constexpr int kSpp = 4096;
-constexpr uint64_t kSeed = 0x5eed2026;  // fixed: a pass today fails only when the code changes
-constexpr double kCaseAlpha = 1e-3;
-
-Verdict run(const char* scene, Strategy s, Defect d) {
-  Case c;
-  c.scene_path = std::string(FURNACE_SCENE_DIR) + "/" + scene;
-  c.options.strategy = s;
-  c.options.defect = d;
-  c.options.spp = kSpp;
-  c.options.seed = kSeed;
-  const Verdict v = run_case(c, kCaseAlpha);
-  std::printf("%s", format_table({v}, kCaseAlpha).c_str());
-  return v;
-}
+using test::kCaseAlpha;
+using test::kSeed;
+using test::kSpp;
+using test::run_builtin_case;
 
 TEST(GlossyControl, WrongNormalisationFailsUnderTheSky) {
-  const Verdict v = run("glossy_environment.json", Strategy::kBsdf, Defect::kPhongWrongNormalisation);
+  const Verdict v = run_builtin_case("glossy_environment.json", Strategy::kBsdf, Defect::kPhongWrongNormalisation);
   EXPECT_FALSE(v.pass) << "a Phong lobe normalised by (n+1)/(2π) passed: no power against it";
   EXPECT_GT(std::fabs(v.z), v.threshold);
 }
 
 TEST(GlossyControl, WrongNormalisationFailsUnderTheSphereLight) {
-  const Verdict v = run("glossy_sphere_light.json", Strategy::kMisPower, Defect::kPhongWrongNormalisation);
+  const Verdict v = run_builtin_case("glossy_sphere_light.json", Strategy::kMisPower, Defect::kPhongWrongNormalisation);
   EXPECT_FALSE(v.pass) << "a Phong lobe normalised by (n+1)/(2π) passed: no power against it";
   EXPECT_GT(std::fabs(v.z), v.threshold);
 }

@@ -20,26 +20,16 @@
 #include <ostream>
 #include <string>
 
+#include "tests/integration/builtin_case.h"
 #include "verify/harness.h"
 
 namespace furnace::verify {
 namespace {
 
-constexpr int kSpp = 4096;
-constexpr uint64_t kSeed = 0x5eed2026;  // fixed: a pass today fails only when the code changes
-constexpr double kCaseAlpha = 1e-3;
-
-Verdict run(const std::string& scene, Strategy s, Defect d) {
-  Case c;
-  c.scene_path = scene_dir() + "/" + scene;
-  c.options.strategy = s;
-  c.options.defect = d;
-  c.options.spp = kSpp;
-  c.options.seed = kSeed;
-  const Verdict v = run_case(c, kCaseAlpha);
-  std::printf("%s", format_table({v}, kCaseAlpha).c_str());
-  return v;
-}
+using test::kCaseAlpha;
+using test::kSeed;
+using test::kSpp;
+using test::run_builtin_case;
 
 struct HardControl {
   const char* name;
@@ -54,7 +44,7 @@ class HardCaseControl : public testing::TestWithParam<HardControl> {};
 
 TEST_P(HardCaseControl, DefectIsBiasedOnItsScene) {
   const HardControl& p = GetParam();
-  const Verdict v = run(p.scene, p.strategy, p.defect);
+  const Verdict v = run_builtin_case(p.scene, p.strategy, p.defect);
   EXPECT_FALSE(v.pass) << "a deliberately wrong estimator passed: the scene does not reach its code path";
   EXPECT_EQ(verdict_kind(v), VerdictKind::kBiased) << verdict_explanation(verdict_kind(v));
 }
@@ -82,7 +72,7 @@ INSTANTIATE_TEST_SUITE_P(
 // Negative control of the verdict's label: the mean is right, the variance is
 // another estimator's.
 TEST(VerdictLabel, MisExponentThreeIsUnbiasedButNotTheClaimedEstimator) {
-  const Verdict v = run("back_facing_emitters.json", Strategy::kMisPower, Defect::kMisPowerExponent3);
+  const Verdict v = run_builtin_case("back_facing_emitters.json", Strategy::kMisPower, Defect::kMisPowerExponent3);
   ASSERT_TRUE(v.variance_tested);
   EXPECT_TRUE(v.mean_pass) << "β = 3 weights still sum to 1: the mean tests must pass (z " << v.z << ")";
   EXPECT_FALSE(v.variance_pass) << "variance z " << v.variance_z;
