@@ -39,7 +39,7 @@ Image render(const Scene& scene, const RenderOptions& options) {
   if (options.defect == Defect::kBackFaceEmits) {
     Scene both_sides = scene;
     for (Object& o : both_sides.objects)
-      if (o.is_emitter() && !std::holds_alternative<Sphere>(o.shape)) o.two_sided = true;
+      if (o.is_emitter() && is_planar(o.shape)) o.two_sided = true;
     RenderOptions rest = options;
     rest.defect = Defect::kNone;
     return render(both_sides, rest);

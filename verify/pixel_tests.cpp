@@ -94,7 +94,7 @@ AggregateVarianceTestResult aggregate_variance_test(const std::vector<VarianceTe
       z_test(r.sum_sample_variance, r.sum_predicted_variance, std::sqrt(sum_var_s2), alpha, power);
   r.statistic = z.statistic;
   r.threshold = z.threshold;
-  r.detectable_relative_error = z.detectable_relative_bias;
+  r.detectable_relative_error = detectable_relative_variance_error(z.detectable_relative_bias);
   r.pass = z.pass;
   r.message = z.message;
   if (zero_variance_image) {

@@ -153,6 +153,11 @@ double sample_variance_variance(const RunningMoments& m) {
   return std::max(0.0, (mu4 - (n - 3) / (n - 1) * s4) / n);  // > 0 whenever m2 > 0 (see header)
 }
 
+double detectable_relative_variance_error(double k) {
+  if (!(k >= 0)) return kInf;
+  return k < 1 ? k / (1 - k) : kInf;
+}
+
 VarianceTestResult variance_test(const RunningMoments& m, double predicted_variance, double alpha, double power) {
   require_level(alpha, "alpha");
   require_level(power, "power");
@@ -191,7 +196,8 @@ VarianceTestResult variance_test(const RunningMoments& m, double predicted_varia
     return r;
   }
   r.standard_error = std::sqrt(sample_variance_variance(m));
-  r.detectable_relative_error = (r.threshold + z_power) * r.standard_error / predicted_variance;
+  r.detectable_relative_error =
+      detectable_relative_variance_error((r.threshold + z_power) * r.standard_error / predicted_variance);
   if (r.standard_error == 0) {
     // m2 == 0: every sample equal, yet a nonzero variance was predicted.
     r.message = "All samples are equal but the predicted variance is nonzero.";

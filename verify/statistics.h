@@ -122,6 +122,14 @@ inline constexpr uint64_t kMinVarianceTestSamples = 100;
 // 0 when N < 2.
 double sample_variance_variance(const RunningMoments& m);
 
+// The smallest relative variance error δ a variance test detects with its
+// power, from k = (z_{1−α/2} + z_power)·SE/σ² (SE estimated from the samples).
+// Under a true variance (1 + δ)·σ² the estimated SE of s² grows by (1 + δ)
+// too (same kurtosis), so the statistic's mean is only δ/(1 + δ)·σ²/SE:
+// power is reached at δ/(1 + δ) = k, δ = k/(1 − k) for a variance too large,
+// the harder of the two directions (too small needs k/(1 + k)). ∞ for k ≥ 1.
+double detectable_relative_variance_error(double k);
+
 struct VarianceTestResult {
   uint64_t count = 0;
   double sample_variance = 0;     // s²

@@ -192,6 +192,21 @@ TEST(VarianceTest, ExponentialPassesAtTrueVarianceFailsBeyondDetectableError) {
   EXPECT_FALSE(variance_test(m, kExponentialVariance * (1 + kControlShift * ok.detectable_relative_error), kAlpha).pass);
 }
 
+// The stated detectable variance error δ solves δ/(1 + δ) = k: the statistic
+// at a true variance (1 + δ)σ², whose estimated SE grows by (1 + δ) too, then
+// has the mean (z_α + z_power) that gives the stated power. Beyond k = 1 no
+// variance excess is detectable.
+TEST(VarianceTest, DetectableErrorAccountsForTheStandardErrorGrowingWithTheVariance) {
+  for (double k : {1e-4, 0.01, 0.1, 0.5, 0.9}) {
+    const double delta = detectable_relative_variance_error(k);
+    EXPECT_GT(delta, k) << "k " << k;
+    EXPECT_NEAR(delta / (1 + delta), k, 4 * std::numeric_limits<double>::epsilon()) << "k " << k;
+  }
+  EXPECT_TRUE(std::isinf(detectable_relative_variance_error(1.0)));
+  EXPECT_TRUE(std::isinf(detectable_relative_variance_error(std::numeric_limits<double>::infinity())));
+  EXPECT_TRUE(std::isinf(detectable_relative_variance_error(std::nan(""))));
+}
+
 TEST(VarianceTest, ZeroPredictedVariance) {
   Moments exact;
   for (int i = 0; i < 200; ++i) exact.add(0.25);
