@@ -187,7 +187,9 @@ TEST_P(RouletteAgreement, OnAndOffAgreeWithEachOtherAndTheClosedForm) {
   RecordProperty("welch_t", std::to_string(w.statistic));
   EXPECT_TRUE(w.pass) << w.message;
   // Depth 1 is emission only: both are exactly Le, nothing to resolve.
-  if (p.max_depth > 1) EXPECT_LT(w.detectable_relative_difference, kRequiredDetectableBias);
+  if (p.max_depth > 1) {
+    EXPECT_LT(w.detectable_relative_difference, kRequiredDetectableBias);
+  }
   expect_pass(run_and_print(on));
   expect_pass(run_and_print(off));
 }

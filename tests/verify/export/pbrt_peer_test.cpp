@@ -206,26 +206,31 @@ class PbrtPeerScene : public PbrtPeer, public testing::TestWithParam<std::string
   void TearDown() override { tear_down(!HasFailure()); }
 };
 
-// Open disagreements between pbrt-v4 and the exact reference, found by this
-// test and not yet diagnosed (pbrt's behaviour or the export's). Each is
-// asserted to keep failing, so a change on either side is noticed, and is
-// reported in docs/checking_pbrt.md with its numbers.
-//   near_contact: pbrt-v4 5f7a6068 is brighter than the reference (and than
-//   furnace's own renders, which pass) under the 2e-4-wide strip 1e-4 above
-//   the receiver (column 9: 0.095 against 0.0594, |t| 21.2) and the strip at
-//   1e-3 (column 15); 12 of 256 pixels and the image mean (t 7.35) fail. The
-//   same scene scaled ×100 fails the same pixels (9 of 256, |t| 20.9), so it
-//   is not a near-contact precision effect.
-const std::map<std::string, std::string> kOpenDisagreements = {
-    {"near_contact", "pbrt-v4 brighter under the thin occluding strips (undiagnosed, also at ×100 scale)"}};
+// Known pbrt-v4 defects that the suite finds, each diagnosed and asserted to
+// keep failing, so a change on either side is noticed; reported in
+// docs/checking_pbrt.md with its numbers.
+//   near_contact: pbrt-v4 5f7a6068 loses hits on long, thin triangles close
+//   to the ray origin: its conservative "t > 0" bound grows with the
+//   triangle's extent across the ray and exceeds t (re-evaluated for shadow
+//   rays under the 1e-4 strip: 21.9 % rejected, deltaT up to 0.02 against t
+//   = 1e-4; see docs/checking_pbrt.md). The scene's black strips (2e-5 × 1.2 to 2e-3 × 1.2, aspect
+//   600 to 60000) are exported as two triangles each; pbrt lets light through
+//   them and is brighter than the reference under the strip 1e-4 above the
+//   receiver (column 9: 0.095 against 0.0594, |t| 21.2) and the strip at 1e-3
+//   (column 15), with the same pixels failing at ×100 scale (the loss depends
+//   on shape, not size). The same strips cut into pieces of aspect <= 100
+//   pass (PbrtPeerDiagnosis below: worst |t| 3.73, image-mean t -0.84), as do the strips written as pbrt
+//   "bilinearmesh" patches (tried by hand).
+const std::map<std::string, std::string> kKnownPbrtDefects = {
+    {"near_contact", "pbrt-v4 lets light through the long, thin triangles of the occluding strips"}};
 
 TEST_P(PbrtPeerScene, PassesFurnaceCheck) {
   const fs::path file = scene_file(GetParam());
   PbrtV4Options options;
   options.spp = kSpp;
-  const auto open = kOpenDisagreements.find(GetParam());
-  if (open != kOpenDisagreements.end()) {
-    std::printf("open disagreement, expected to FAIL: %s\n", open->second.c_str());
+  const auto known = kKnownPbrtDefects.find(GetParam());
+  if (known != kKnownPbrtDefects.end()) {
+    std::printf("known pbrt-v4 defect, expected to FAIL: %s\n", known->second.c_str());
     EXPECT_EQ(render_and_check(GetParam(), file, load_scene(file), options, false), 1);
     return;
   }
@@ -288,6 +293,58 @@ TEST_P(PbrtPeerControl, FailsFurnaceCheck) {
 
 INSTANTIATE_TEST_SUITE_P(Negative, PbrtPeerControl, testing::ValuesIn(controls()),
                          [](const testing::TestParamInfo<Control>& info) { return info.param.name; });
+
+// Cuts every non-emitting rectangle whose sides differ by more than
+// `max_aspect` into equal pieces along its long side, each of aspect at most
+// `max_aspect`: the same surface, as triangles of bounded aspect.
+Scene split_slivers(const Scene& scene, double max_aspect) {
+  Scene out = scene;
+  out.objects.clear();
+  for (const Object& o : scene.objects) {
+    const auto* r = std::get_if<Rectangle>(&o.shape);
+    if (!r || o.is_emitter()) {
+      out.objects.push_back(o);
+      continue;
+    }
+    const bool u_long = length(r->edge_u) >= length(r->edge_v);
+    const Vec3 long_edge = u_long ? r->edge_u : r->edge_v;
+    const Vec3 short_edge = u_long ? r->edge_v : r->edge_u;
+    const int pieces = int(std::ceil(length(long_edge) / (max_aspect * length(short_edge))));
+    if (pieces <= 1) {
+      out.objects.push_back(o);
+      continue;
+    }
+    for (int k = 0; k < pieces; ++k) {
+      Object piece = o;
+      piece.name = fmt::format("{}_piece_{}", o.name, k);
+      const Vec3 corner = r->corner + long_edge * (double(k) / pieces);
+      const Vec3 step = long_edge * (1.0 / pieces);
+      // Keep the rectangle's orientation (edge_u × edge_v) unchanged.
+      piece.shape = u_long ? Rectangle{corner, step, short_edge} : Rectangle{corner, short_edge, step};
+      out.objects.push_back(piece);
+    }
+  }
+  return out;
+}
+
+class PbrtPeerDiagnosis : public PbrtPeer, public testing::Test {
+ protected:
+  void SetUp() override {
+    if (!set_up("Diagnosis")) GTEST_SKIP() << "skipped: no pbrt-v4 (set FURNACE_PBRT)";
+  }
+  void TearDown() override { tear_down(!HasFailure()); }
+};
+
+// near_contact's failure is pbrt's, not the export's or the reference's: the
+// same strips cut into triangles of aspect <= 100 pass the same check.
+TEST_F(PbrtPeerDiagnosis, NearContactPassesWithSliversSplit) {
+  const fs::path file = scene_file("near_contact");
+  const Scene split = split_slivers(load_scene(file), 100);
+  std::printf("near_contact with its strips cut into %zu rectangles of aspect <= 100\n", split.objects.size());
+  PbrtV4Options options;
+  options.spp = kSpp;
+  EXPECT_EQ(render_and_check("near_contact (slivers split)", file, split, options, false), 0);
+}
 #endif
 
 }  // namespace
