@@ -38,6 +38,13 @@ class ErrorLedger {
 
   // The relative quadrature error reported so far.
   double relative_quadrature_error() const { return relative_; }
+  // Returns the relative error reported so far and clears it, so that none of
+  // it reaches the enclosing ledger (the caller reports it in another form).
+  double take_relative() {
+    const double r = relative_;
+    relative_ = 0;
+    return r;
+  }
   // |value|·(reported relative error + kRoundoffUlps·ε).
   double bound(double value) const {
     return std::fabs(value) * (relative_ + kRoundoffUlps * std::numeric_limits<double>::epsilon());
@@ -60,6 +67,29 @@ class ErrorLedger {
   }
   ErrorLedger* outer_;
   double relative_ = 0;
+};
+
+// The error of a sum of terms, each computed under its own ledger: a term's
+// relative error becomes an absolute error |term|·r, and the sum reports
+// Σ|termᵢ|·rᵢ relative to |Σ termᵢ|. Summing the terms' relative errors
+// instead would let a negligible term with a poorly resolved value (a tiny
+// far light whose contour integral cancels to 1e-12 of its edge terms)
+// swamp the bound of the whole.
+class ErrorSum {
+ public:
+  // Evaluates `term()` under its own ledger and returns its value.
+  template <class Term>
+  double term(Term&& term) {
+    ErrorLedger ledger;
+    const double value = term();
+    absolute_ += std::fabs(value) * ledger.take_relative();
+    return value;
+  }
+  // Reports the accumulated error of the terms relative to `sum`, their sum.
+  void report(double sum) const { ErrorLedger::report(absolute_, sum); }
+
+ private:
+  double absolute_ = 0;
 };
 
 }  // namespace furnace::analytic

@@ -459,33 +459,36 @@ double second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const
     if (scene.objects[i].is_emitter()) inverse_pmf_of_object[i] = 1.0 / pmf[light++];
 
   double moment = 0;
+  ErrorSum errors;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const Object& object = scene.objects[i];
     if (!object.is_emitter() || (receiver && i == *receiver)) continue;
     const double le = object.emitted_radiance;
-    switch (estimator) {
-      case Strategy::kUniformHemisphere:
-        moment += 2 * kPi * le * le * emitter_kernel(estimator, scene, i, p, n, receiver);
-        break;
-      case Strategy::kCosineHemisphere:
-        moment += kPi * le * le * emitter_irradiance(scene, i, p, n, receiver);
-        break;
-      case Strategy::kLightArea:
-        moment += inverse_pmf_of_object[i] * shape_area(object.shape) * le * le * emitter_kernel(estimator, scene, i, p, n, receiver);
-        break;
-      case Strategy::kLightSolidAngle:
-        moment += inverse_pmf_of_object[i] * le * le * solid_angle_emitter_kernel(scene, i, p, n, receiver);
-        break;
-      case Strategy::kMisBalance:
-      case Strategy::kMisPower:
-      case Strategy::kMisOneSample:
-        break;  // mis_second_moment above
-      case Strategy::kBsdf:
-      case Strategy::kPathNaive:
-      case Strategy::kPathMis:
-        FURNACE_CHECK(false && "mapped to its variance model above");
-    }
+    moment += errors.term([&]() -> double {
+      switch (estimator) {
+        case Strategy::kUniformHemisphere:
+          return 2 * kPi * le * le * emitter_kernel(estimator, scene, i, p, n, receiver);
+        case Strategy::kCosineHemisphere:
+          return kPi * le * le * emitter_irradiance(scene, i, p, n, receiver);
+        case Strategy::kLightArea:
+          return inverse_pmf_of_object[i] * shape_area(object.shape) * le * le *
+                 emitter_kernel(estimator, scene, i, p, n, receiver);
+        case Strategy::kLightSolidAngle:
+          return inverse_pmf_of_object[i] * le * le * solid_angle_emitter_kernel(scene, i, p, n, receiver);
+        case Strategy::kMisBalance:
+        case Strategy::kMisPower:
+        case Strategy::kMisOneSample:
+          return 0;  // mis_second_moment above
+        case Strategy::kBsdf:
+        case Strategy::kPathNaive:
+        case Strategy::kPathMis:
+          break;
+      }
+      FURNACE_CHECK(false && "mapped to its variance model above");
+      return 0;
+    });
   }
+  errors.report(moment);
   moment += point_lights_second_moment(estimator, scene, p, n, receiver, pmf);
   const double e_env = environment_irradiance(scene, p, n, receiver);
   if (e_env > 0 && scene.environment.map) {  // unblocked (environment_irradiance refuses blockers)

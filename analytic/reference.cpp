@@ -2,6 +2,8 @@
 // configuration to its closed form, or refuse it with furnace::Error.
 #include "analytic/reference.h"
 
+#include "analytic/error_ledger.h"
+
 #include <cmath>
 #include <string>
 #include <variant>
@@ -29,11 +31,13 @@ std::optional<Hit> intersect(const Scene& scene, const Vec3& origin, const Vec3&
 
 double irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optional<size_t> receiver) {
   double e = 0;
+  ErrorSum errors;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const Object& object = scene.objects[i];
     if (!object.is_emitter() || (receiver && i == *receiver)) continue;
-    e += object.emitted_radiance * emitter_irradiance(scene, i, p, n, receiver);
+    e += errors.term([&] { return object.emitted_radiance * emitter_irradiance(scene, i, p, n, receiver); });
   }
+  errors.report(e);
   e += point_lights_irradiance(scene, p, n, receiver);
   return e + environment_irradiance(scene, p, n, receiver);
 }
