@@ -8,6 +8,7 @@
 #include <boost/math/quadrature/tanh_sinh.hpp>
 
 #include "analytic/reference.h"
+#include "core/adaptive_quadrature.h"
 
 namespace furnace::analytic {
 
@@ -163,7 +164,7 @@ double pixel_footprint_radiance(const Scene& scene, int px, int py, double toler
   boost::math::quadrature::tanh_sinh<double> outer;
   double sum = 0;
   for (size_t i = 0; i + 1 < rows.size(); ++i)
-    if (rows[i + 1] > rows[i]) sum += outer.integrate(scan_line, rows[i], rows[i + 1], tolerance);
+    if (rows[i + 1] > rows[i]) sum += tanh_sinh_integral(outer, scan_line, rows[i], rows[i + 1], tolerance);
   return sum;
 }
 

@@ -40,7 +40,7 @@ double cone_integral(const Vec3& center, double R, const Vec3& n, Weight weight)
   double sum = 0, error = 0;
   auto piece = [&](double lo, double hi) {
     double piece_error = 0;
-    sum += integrator.integrate(f, lo, hi, 1e-13, &piece_error);
+    sum += tanh_sinh_integral(integrator, f, lo, hi, 1e-13, &piece_error);
     error += piece_error;
   };
   if (gamma_h > 0 && gamma_h < alpha) {

@@ -488,16 +488,28 @@ double second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const
       return 0;
     });
   }
-  errors.report(moment);
-  moment += point_lights_second_moment(estimator, scene, p, n, receiver, pmf);
-  const double e_env = environment_irradiance(scene, p, n, receiver);
+  moment += errors.term([&] { return point_lights_second_moment(estimator, scene, p, n, receiver, pmf); });
+  // E of the environment under its own ledger: its error counts only where
+  // a term below is proportional to it.
+  double e_env = 0, e_env_relative_error = 0;
+  {
+    ErrorLedger ledger;
+    e_env = environment_irradiance(scene, p, n, receiver);
+    e_env_relative_error = ledger.take_relative();
+  }
+  auto proportional_to_e_env = [&](double value) {
+    ErrorLedger::report(e_env_relative_error, 1.0);
+    return value;
+  };
   if (e_env > 0 && scene.environment.map) {  // unblocked (environment_irradiance refuses blockers)
     switch (estimator) {
-      case Strategy::kUniformHemisphere: moment += map_uniform_hemisphere_moment(scene.environment, n); break;
-      case Strategy::kCosineHemisphere: moment += map_cosine_moment(scene.environment, n); break;
+      case Strategy::kUniformHemisphere:
+        moment += errors.term([&] { return map_uniform_hemisphere_moment(scene.environment, n); });
+        break;
+      case Strategy::kCosineHemisphere: moment += errors.term([&] { return map_cosine_moment(scene.environment, n); }); break;
       case Strategy::kLightArea:  // the map's texel sampling, chosen with pmf P_env (last)
       case Strategy::kLightSolidAngle:
-        moment += map_light_sampling_moment(scene.environment, n, 1) / pmf.back();
+        moment += errors.term([&] { return map_light_sampling_moment(scene.environment, n, 1) / pmf.back(); });
         break;
       case Strategy::kMisBalance:
       case Strategy::kMisPower:
@@ -512,18 +524,25 @@ double second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const
     const double l_env = scene.environment.radiance;
     switch (estimator) {
       case Strategy::kUniformHemisphere: {
-        // ∫ cos²θ dω = 2π/3 over the hemisphere, minus what the blockers hide.
+        // ∫ cos²θ dω = 2π/3 over the hemisphere, minus what the blockers hide;
+        // the blockers' errors count against what stays visible.
+        ErrorSum hidden_errors;
         double hidden = 0;
-        for (size_t j : environment_blockers(scene, p, n, receiver)) hidden += blocker_cos2_solid_angle(scene, j, p, n);
-        moment += 2 * kPi * l_env * l_env * std::fmax(2 * kPi / 3 - hidden, 0.0);
+        for (size_t j : environment_blockers(scene, p, n, receiver))
+          hidden += hidden_errors.term([&] { return blocker_cos2_solid_angle(scene, j, p, n); });
+        const double visible = std::fmax(2 * kPi / 3 - hidden, 0.0);
+        moment += errors.term([&] {
+          hidden_errors.report(visible);
+          return 2 * kPi * l_env * l_env * visible;
+        });
         break;
       }
       case Strategy::kCosineHemisphere:
-        moment += kPi * l_env * e_env;
+        moment += errors.term([&] { return proportional_to_e_env(kPi * l_env * e_env); });
         break;
       case Strategy::kLightArea:  // the environment is sampled cosine-weighted, chosen with pmf P_env (last)
       case Strategy::kLightSolidAngle:
-        moment += kPi * l_env * e_env / pmf.back();
+        moment += errors.term([&] { return proportional_to_e_env(kPi * l_env * e_env / pmf.back()); });
         break;
       case Strategy::kMisBalance:
       case Strategy::kMisPower:
@@ -535,6 +554,7 @@ double second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const
         FURNACE_CHECK(false && "mapped to its variance model above");
     }
   }
+  errors.report(moment);
   return moment;
 }
 

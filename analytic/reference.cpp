@@ -37,9 +37,10 @@ double irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optiona
     if (!object.is_emitter() || (receiver && i == *receiver)) continue;
     e += errors.term([&] { return object.emitted_radiance * emitter_irradiance(scene, i, p, n, receiver); });
   }
+  e += errors.term([&] { return point_lights_irradiance(scene, p, n, receiver); });
+  e += errors.term([&] { return environment_irradiance(scene, p, n, receiver); });
   errors.report(e);
-  e += point_lights_irradiance(scene, p, n, receiver);
-  return e + environment_irradiance(scene, p, n, receiver);
+  return e;
 }
 
 double pixel_center_radiance(const Scene& scene, int px, int py) {

@@ -25,6 +25,7 @@
 #include <cstdint>
 
 #include <boost/math/quadrature/gauss_kronrod.hpp>
+#include <boost/math/quadrature/tanh_sinh.hpp>
 
 namespace furnace {
 
@@ -85,6 +86,27 @@ double adaptive_gauss_kronrod_relative(const F& f, double a, double b, double re
   for (int i = 0; i < initial_pieces; ++i)
     sum += adaptive_gauss_kronrod<Points>(f, edge(i), edge(i + 1), abs_tolerance, depth, cap, error_sum);
   return sum;
+}
+
+// ∫_a^b f by Boost's tanh–sinh rule (which absorbs end-point singularities),
+// with two corrections to Boost 1.74 on intervals that are short against
+// their distance from 0 (a piece between a cut and an end point):
+// - Boost stops short of each end by the spacing of doubles near a/((b − a)/2)
+//   and b/((b − a)/2), dropping a fraction ~ (ulp(a) + ulp(b))/(b − a) of the
+//   integral (measured: 1.2e-10 of ∫ sin over [0.38, 0.38 + 1e-6]). The
+//   integrand is taken over [0, b − a] instead, shifted by a, where the ends
+//   lose nothing.
+// - Boost scales the integral and L1 by the half-width but returns the error
+//   of the integral mapped to [−1, 1] (measured: 1.04e-5 stated for an
+//   integral of 4e-17 over one ulp); here the error is in the integral's units.
+template <class F>
+double tanh_sinh_integral(boost::math::quadrature::tanh_sinh<double>& integrator, const F& f, double a, double b,
+                          double tolerance, double* error = nullptr) {
+  const double width = b - a;
+  double e = 0;
+  const double value = integrator.integrate([&](double t) { return f(a + t); }, 0.0, width, tolerance, &e);
+  if (error != nullptr) *error = e * width / 2;
+  return value;
 }
 
 }  // namespace furnace

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include <boost/math/constants/constants.hpp>
@@ -90,5 +91,45 @@ TEST(AdaptiveGaussKronrodRelative, BisectionCapBoundsTheCostOfNoise) {
   EXPECT_LT(value, 1.0);
 }
 
+// On a short interval away from 0, tanh_sinh_integral keeps full precision
+// and states an error in the integral's units that covers the actual error.
+// Negative controls: Boost's integrate on the same interval drops the end
+// slivers (a relative error ~ ulp(a)/width) and states an error that is not
+// in the integral's units.
+TEST(TanhSinhIntegral, ShortIntervalsKeepPrecisionAndAnHonestError) {
+  boost::math::quadrature::tanh_sinh<double> integrator;
+  auto f = [](double x) { return std::sin(x); };
+  for (const double width : {1e-12, 1e-9, 1e-6, 1e-3}) {
+    const double a = 0.38, b = a + width;
+    // cos a − cos b without cancellation.
+    const double exact = 2 * std::sin((a + b) / 2) * std::sin((b - a) / 2);
+    double error = 0, boost_error = 0;
+    const double value = tanh_sinh_integral(integrator, f, a, b, 1e-13, &error);
+    const double boost_value = integrator.integrate(f, a, b, 1e-13, &boost_error);
+    std::printf("width %g: relative error %.2g, stated %.2g; Boost's own: relative error %.2g, stated %.2g\n", width,
+                std::fabs(value - exact) / exact, error / exact, std::fabs(boost_value - exact) / exact,
+                boost_error / exact);
+    EXPECT_LE(std::fabs(value - exact), 8 * std::numeric_limits<double>::epsilon() * exact);
+    EXPECT_LE(error, 1e-12 * exact);
+    if (width <= 1e-6) {
+      EXPECT_GT(std::fabs(boost_value - exact), 1e-12 * exact);  // the dropped end slivers
+      EXPECT_GT(boost_error, 1e-9 * exact);                       // not in the integral's units
+    }
+  }
+}
+
+// One ulp (a cut and an end point differing by rounding): a value of the
+// right size and an error far below it.
+TEST(TanhSinhIntegral, IntervalOfOneUlp) {
+  boost::math::quadrature::tanh_sinh<double> integrator;
+  const double a = 0.38, b = std::nextafter(a, 1.0);
+  double error = -1;
+  const double value = tanh_sinh_integral(integrator, [](double x) { return std::sin(x); }, a, b, 1e-13, &error);
+  EXPECT_NEAR(value, std::sin(a) * (b - a), 1e-6 * std::sin(a) * (b - a));
+  EXPECT_GE(error, 0.0);
+  EXPECT_LE(error, 1e-6 * value);
+}
+
 }  // namespace
 }  // namespace furnace
+
