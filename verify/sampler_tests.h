@@ -114,7 +114,7 @@ std::string describe(const SamplerChi2Result& result);
 // quantity computed along two paths of a few double roundings each (the
 // renderer's own strategies agree within 16 ε). 64 ε leaves room for a pdf
 // recomputed from the direction instead of from u. A sampler computing in
-// float needs about 64 float epsilons (7.6e-6) instead.
+// float needs a tolerance in float epsilons instead (64 of them are 7.6e-6).
 inline constexpr double kDefaultConsistencyRelTolerance = 64 * 2.220446049250313e-16;
 
 struct ConsistencyOptions {
