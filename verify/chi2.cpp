@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -42,11 +43,14 @@ long spherical_cell_of(const Vec3& w, const SphericalGrid& grid) {
 }
 
 // Shared tail of the directional and planar tests: count samples per cell,
-// report the first sample that is outside the grid, then run Pearson.
+// report the first sample that is outside the grid, then run Pearson. With
+// `failures` (draws that returned no sample), the expected counts are of all
+// draws and the failures form one more bin, expected N·(1 − ∫pdf).
 template <class Sample, class CellOf, class Describe>
 Chi2Result histogram_and_test(const std::vector<Sample>& samples, const std::vector<double>& probabilities,
                               double integral, const CellOf& cell_of, const Describe& describe_cell,
-                              double alpha_family, size_t n_tests, double power) {
+                              double alpha_family, size_t n_tests, double power,
+                              std::optional<size_t> failures = std::nullopt) {
   const double alpha = sidak_alpha(alpha_family, n_tests);
   std::vector<double> observed(probabilities.size(), 0.0);
   for (size_t i = 0; i < samples.size(); ++i) {
@@ -65,7 +69,7 @@ Chi2Result histogram_and_test(const std::vector<Sample>& samples, const std::vec
     }
     observed[size_t(c)] += 1;
   }
-  const double n = double(samples.size());
+  const double n = double(samples.size()) + double(failures.value_or(0));
   std::vector<double> expected(probabilities.size());
   for (size_t c = 0; c < probabilities.size(); ++c) {
     expected[c] = n * probabilities[c];
@@ -82,7 +86,28 @@ Chi2Result histogram_and_test(const std::vector<Sample>& samples, const std::vec
       return r;
     }
   }
+  if (failures) {
+    // A pdf that integrates to 1 or more over the grid leaves no room for a
+    // failed draw: the bin's expectation is 0 and any failure fails the test.
+    const double expected_failures = n * std::max(0.0, 1 - integral);
+    if (expected_failures == 0 && *failures > 0) {
+      Chi2Result r;
+      r.alpha = alpha;
+      r.samples = size_t(n);
+      r.cells = probabilities.size();
+      r.pdf_integral = integral;
+      r.statistic = std::numeric_limits<double>::infinity();
+      std::ostringstream s;
+      s << *failures << " draws returned no sample, but the pdf integrates to " << integral
+        << " >= 1 over the grid.";
+      r.message = s.str();
+      return r;
+    }
+    observed.push_back(double(*failures));
+    expected.push_back(expected_failures);
+  }
   Chi2Result r = chi2_from_counts(observed, expected, alpha, power);
+  r.cells = probabilities.size();  // grid cells; the failure bin is not one
   r.pdf_integral = integral;
   return r;
 }
@@ -200,18 +225,34 @@ DirectionalChi2::DirectionalChi2(const DirectionPdf& pdf_solid_angle, const Sphe
 
 long DirectionalChi2::cell_of(const Vec3& w) const { return spherical_cell_of(w, grid_); }
 
-Chi2Result DirectionalChi2::test(const std::vector<Vec3>& samples, double alpha_family, size_t n_tests,
-                                 double power) const {
+namespace {
+
+// The directional test, with or without a bin of failed draws.
+Chi2Result directional_test(const DirectionalChi2& chi2, const std::vector<Vec3>& samples,
+                            std::optional<size_t> failures, double alpha_family, size_t n_tests, double power) {
+  const SphericalGrid& grid = chi2.grid();
   const auto describe = [&](size_t c) {
-    const size_t row = c / size_t(grid_.phi_bins), col = c % size_t(grid_.phi_bins);
+    const size_t row = c / size_t(grid.phi_bins), col = c % size_t(grid.phi_bins);
     std::ostringstream s;
     s << "cell (t row " << row << ", phi column " << col << ") with 1 - cos(theta) in ["
-      << grid_.t_max * double(row) / grid_.t_bins << ", " << grid_.t_max * double(row + 1) / grid_.t_bins << "]";
+      << grid.t_max * double(row) / grid.t_bins << ", " << grid.t_max * double(row + 1) / grid.t_bins << "]";
     return s.str();
   };
   return histogram_and_test(
-      samples, probabilities_, integral_, [&](const Vec3& w) { return cell_of(w); }, describe, alpha_family, n_tests,
-      power);
+      samples, chi2.cell_probabilities(), chi2.pdf_integral(), [&](const Vec3& w) { return chi2.cell_of(w); },
+      describe, alpha_family, n_tests, power, failures);
+}
+
+}  // namespace
+
+Chi2Result DirectionalChi2::test(const std::vector<Vec3>& samples, double alpha_family, size_t n_tests,
+                                 double power) const {
+  return directional_test(*this, samples, std::nullopt, alpha_family, n_tests, power);
+}
+
+Chi2Result DirectionalChi2::test_with_failures(const std::vector<Vec3>& samples, size_t failures,
+                                               double alpha_family, size_t n_tests, double power) const {
+  return directional_test(*this, samples, failures, alpha_family, n_tests, power);
 }
 
 Chi2Result chi2_test_directions(const std::vector<Vec3>& samples, const DirectionPdf& pdf_solid_angle,

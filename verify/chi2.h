@@ -129,6 +129,16 @@ class DirectionalChi2 {
   Chi2Result test(const std::vector<Vec3>& samples, double alpha_family, size_t n_tests,
                   double power = kDefaultPower) const;
 
+  // The test of a sampler that may draw no direction (a failed or a delta
+  // sample): `failures` such draws, N = samples.size() + failures. Expected
+  // counts are N·∫cell pdf, and the failures form one more bin of expected
+  // count N·(1 − ∫pdf) (the mass the pdf leaves outside the grid; pooled
+  // like a cell when below kMinExpectedCount, and then counted in
+  // pooled_cells); a failure when the pdf integrates to 1 or more is an
+  // immediate failure.
+  Chi2Result test_with_failures(const std::vector<Vec3>& samples, size_t failures, double alpha_family,
+                                size_t n_tests, double power = kDefaultPower) const;
+
   const SphericalGrid& grid() const { return grid_; }
   // ∫cell pdf dΩ, row-major (t row, then φ column).
   const std::vector<double>& cell_probabilities() const { return probabilities_; }
