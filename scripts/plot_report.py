@@ -17,8 +17,9 @@ Per scene:
                            its per-pixel t map.
 seed_figure.png            the lecture notes' comparison with its numbers.
 
-Tone mapping, the same for every image of a scene: radiance x (1 / the 99.5th
-percentile of the reference), clipped to [0, 1], then the sRGB transfer curve.
+Tone mapping, the same for every image of a scene: radiance x (TONE_TOP / the
+99.5th percentile of the reference), clipped to [0, 1], then the sRGB transfer
+curve. (A scene whose reference is constant, a furnace, shows a flat gray.)
 Signed relative error: (render - reference) / mean reference, one symmetric
 range per scene (the 99th percentile of |error| over all its renders), so the
 strategies compare at a glance. t: (render - reference) / sqrt(s^2 / spp),
@@ -40,6 +41,10 @@ import numpy as np  # noqa: E402
 
 T_RANGE = 4.0  # |t| beyond ~4 is rare for a correct estimator at any pixel count shown here
 DPI = 80
+# The reference's 99.5th percentile maps to this linear value (0.91 after the
+# sRGB curve): light enough to read, short of white so that noise above the
+# reference still shows instead of clipping.
+TONE_TOP = 0.8
 MARKERS = "osD^v<>phX*P"
 
 
@@ -71,7 +76,7 @@ def exposure(reference):
     top = np.percentile(reference, 99.5)
     if not top > 0:
         top = reference.max()
-    return 1.0 / top if top > 0 else 1.0
+    return TONE_TOP / top if top > 0 else 1.0
 
 
 def tone_map(radiance, scale):
@@ -130,6 +135,18 @@ def plot_convergence(scene, cases, out_dir):
             x = np.geomspace(lo, hi, 20)
             ax.loglog(x, e0 * (x / lo) ** -0.5, "--", color="0.35", linewidth=1.5, zorder=1,
                       label="ideal slope -1/2")
+    for ax in axes:
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+    if not anchors:
+        # Every strategy exact: nothing positive to draw on log axes.
+        spp = [p["spp"] for c in cases for p in c["points"]]
+        sec = [p["seconds"] for c in cases for p in c["points"] if p["seconds"] > 0] or [1e-3, 1]
+        for ax, (lo, hi) in ((axes[0], (min(spp), max(spp))), (axes[1], (min(sec), max(sec)))):
+            ax.set_xlim(lo, hi * 1.01)
+            ax.set_ylim(1e-3, 1)
+            ax.text(0.5, 0.5, "every strategy exact: RMSE 0 at every spp", transform=ax.transAxes,
+                    ha="center", fontsize=9)
     axes[0].set_xlabel("samples per pixel")
     axes[1].set_xlabel("render seconds (wall clock)")
     for ax in axes:
@@ -156,6 +173,8 @@ def plot_efficiency(scene, cases, out_dir):
     for yi, v in zip(y, values):
         if v is None:
             ax.text(top, yi, " exact (RMSE 0): infinite", va="center", fontsize=7)
+    if not finite:
+        ax.set_xlim(0.5, 10)  # every strategy exact: no bar to draw, only the labels
     ax.set_yticks(y)
     ax.set_yticklabels(names, fontsize=8)
     ax.invert_yaxis()
@@ -299,7 +318,7 @@ def main():
             " &times; seconds) at the largest spp. <code>name@power</code>: the case runs under power light"
             " selection (uniform otherwise); <code>name/dN</code>: a path tracer limited to N segments. Equal time:"
             " each strategy's spp scaled to the scene's budget, the fastest strategy's time at the largest spp."
-            " Images of a scene share one tone mapping (radiance / 99.5th percentile of the reference, sRGB) and one"
+            " Images of a scene share one tone mapping (radiance &times; 0.8 / 99.5th percentile of the reference, sRGB) and one"
             " error range; red is too bright. t: the pixel's error over its standard error, range &plusmn;4.</p>"]
 
     body.append(seed_html(report["seed_figure"], plot_seed_figure(report["seed_figure"], out_dir)))
@@ -313,6 +332,8 @@ def main():
                 " maps use.</p>") if own else ""
         body.append(f"<h2 id=\"{slug(scene)}\">{html.escape(scene)}</h2>")
         body.append(table_html(cases))
+        body.append(f"<p>Equal-time budget: {cases[0]['time_budget']:.3g} s (the fastest strategy at"
+                    f" {cases[0]['equal_spp']['spp']} spp); each render's own time is in its title.</p>")
         body.append(f"<img src=\"{plot_convergence(scene, cases, out_dir)}\" alt=\"{html.escape(scene)} convergence\">")
         body.append("<div class=row>"
                     f"<img src=\"{plot_reference(scene, cases[0], scale, out_dir)}\" alt=\"reference\">"
