@@ -167,16 +167,17 @@ std::vector<verify::Case> report_cases(const std::vector<std::string>& scenes, s
 }
 
 int run_report(const std::vector<std::string>& scenes, const std::vector<std::string>& strategies, int min_spp,
-               int max_spp, uint64_t seed, int threads, const std::string& dir, const std::string& command_line) {
+               int max_spp, uint64_t seed, int threads, const std::string& dir, const std::string& command_line,
+               bool html) {
   if (min_spp > max_spp)
     throw Error(fmt::format("--min-spp ({}) must not exceed --max-spp ({}).", min_spp, max_spp));
   // Everything the HTML report needs is found, and where it goes is settled,
   // before any rendering.
-  const verify::PlotTools tools = verify::find_plot_tools();
+  const verify::PlotTools tools = html ? verify::find_plot_tools() : verify::PlotTools{};
   const std::vector<verify::Case> cases = report_cases(scenes, strategies, max_spp, seed, threads);
   if (cases.empty()) throw Error("no report case matches the given --scene and --strategy options.");
   cli::create_output_directory(dir, "--output-dir");
-  verify::Progress progress("report", cases.size() + 1);
+  verify::Progress progress("report", cases.size() + (html ? 1 : 0));
   const std::vector<verify::ReportCase> measured =
       verify::measure_report(cases, min_spp, max_spp, [&](const verify::ReportCase& rc) {
         progress.clear();
@@ -185,6 +186,15 @@ int run_report(const std::vector<std::string>& scenes, const std::vector<std::st
                    s.slope, s.points.back().relative_rmse, s.points.back().spp, s.points.back().seconds);
         progress.step();
       });
+  std::vector<verify::ConvergenceSeries> series;
+  for (const verify::ReportCase& rc : measured) series.push_back(rc.series);
+  if (!html) {
+    progress.finish();
+    verify::write_convergence_report(series, dir, command_line);
+    fmt::print("wrote {}/convergence.md and {}/convergence.csv (--no-html: no plots, images or index.html)\n", dir,
+               dir);
+    return 0;
+  }
   const verify::SeedFigure figure = verify::measure_seed_figure(seed, threads);
   progress.step();
   progress.finish();
@@ -194,8 +204,6 @@ int run_report(const std::vector<std::string>& scenes, const std::vector<std::st
              figure.hemisphere.relative_rmse, figure.hemisphere.seconds, figure.light.strategy, figure.light.spp,
              figure.light.relative_rmse, figure.light.seconds, figure.predicted_variance_ratio,
              figure.measured_variance_ratio, figure.measured_mse_ratio);
-  std::vector<verify::ConvergenceSeries> series;
-  for (const verify::ReportCase& rc : measured) series.push_back(rc.series);
   verify::write_convergence_report(series, dir, command_line);
   verify::write_report_json(measured, figure, {command_line, min_spp, max_spp, seed}, dir);
   const int status = verify::run_plot_script(tools, dir);
@@ -392,8 +400,11 @@ int main(int argc, char** argv) {
   report_cmd->add_option("--output-dir", r_dir, "Directory for index.html, its PNG files, report.json, "
                          "convergence.md and convergence.csv (created before any rendering)")
       ->capture_default_str()->check(cli::output_directory());
+  bool r_no_html = false;
+  report_cmd->add_flag("--no-html", r_no_html, "Write only convergence.md and convergence.csv: no plots, images, "
+                       "report.json or index.html (and no Python needed)");
   with_contract(report_cmd, "report needs Python 3 with matplotlib (Debian: python3-matplotlib) for its plots and "
-                "images: without it, it exits 2 before rendering anything.");
+                "images: without it, it exits 2 before rendering anything (--no-html does without).");
 
   std::string a_scene;
   std::array<double, 3> a_point{}, a_normal{};
@@ -520,7 +531,8 @@ int main(int argc, char** argv) {
     if (*report_cmd) {
       std::string command_line = "furnace";
       for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
-      return run_report(r_scenes, r_strategies, r_min_spp, r_max_spp, r_seed, r_threads, r_dir, command_line);
+      return run_report(r_scenes, r_strategies, r_min_spp, r_max_spp, r_seed, r_threads, r_dir, command_line,
+                        !r_no_html);
     }
     if (*verify_cmd) {
       std::string command_line = "furnace";

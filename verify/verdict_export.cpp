@@ -172,10 +172,11 @@ std::string verdicts_html(const std::vector<Verdict>& verdicts, double family_al
 
   std::string h;
   h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>furnace verify</title>\n<style>\n"
-       "body{font-family:sans-serif;margin:1.5em;color:#222}table{border-collapse:collapse;font-size:13px}\n"
+       "body{font-family:sans-serif;margin:1.5em;color:#222}table{border-collapse:collapse;font-size:12px}\n"
        "th,td{border:1px solid #ccc;padding:2px 6px;text-align:right;white-space:nowrap}\n"
        "td.l,th.l{text-align:left}tr.fail td{background:#fde0dc}tr.pass td.v{color:#1a7f37}\n"
-       "tr.fail td.v{color:#b3261e;font-weight:bold}td.note{text-align:left;white-space:normal;color:#555}\n"
+       "tr.fail td.v{color:#b3261e;font-weight:bold}td.note{text-align:left;white-space:normal;color:#555;"
+       "border-top:none;padding-left:2em}\n"
        "</style></head><body>\n";
   h += fmt::format("<h1>furnace verify: {}</h1>\n", failures == 0 ? "PASS" : "FAIL");
   h += fmt::format("<p>{} cases, {} failing (listed first). Family-wise &alpha; {} (&Scaron;id&aacute;k over the "
@@ -191,7 +192,7 @@ std::string verdicts_html(const std::vector<Verdict>& verdicts, double family_al
   for (const auto& [column, text] : header)
     h += fmt::format("<th{}>{}</th>", column == "scene" || column == "strategy" ? " class=\"l\"" : "",
                      escape_html(column));
-  h += "<th class=\"l\">notes</th></tr>\n";
+  h += "</tr>\n";
   for (const Verdict* v : rows) {
     const VerdictKind kind = verdict_kind(*v);
     h += fmt::format("<tr class=\"{}\">", v->pass ? "pass" : "fail");
@@ -209,7 +210,10 @@ std::string verdicts_html(const std::vector<Verdict>& verdicts, double family_al
       notes += fmt::format("worst pixel ({}, {}): mean {:.6g}, reference {:.6g}, sample variance {:.3g}, |t| {:.3g}.",
                            v->worst_px, v->worst_py, v->worst_pixel_mean, v->worst_pixel_reference,
                            v->worst_pixel_sample_variance, v->worst_pixel_t);
-    h += fmt::format("<td class=\"note\">{}</td></tr>\n", escape_html(notes));
+    h += "</tr>\n";
+    // Notes on a row of their own under the case, across the table.
+    if (!notes.empty())
+      h += fmt::format("<tr><td class=\"note\" colspan=\"{}\">{}</td></tr>\n", header.size(), escape_html(notes));
   }
   h += "</table>\n";
   const auto weakest_line = [&](double Verdict::*detect, bool (*applies)(const Verdict&)) {

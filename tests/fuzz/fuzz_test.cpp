@@ -405,8 +405,8 @@ std::vector<BaseCommand> base_commands(const fs::path& scratch, const fs::path& 
         "--max-depth", "2", "-o", (out / "x.pbrt").string()},
        {}},
       {{"report", "--strategy", "light_area", "--min-spp", "2", "--max-spp", "2", "--seed", "1", "--threads", "1",
-        "--output-dir", (out / "report").string()},
-       {"--strategy", "--max-spp", "--min-spp"}},
+        "--output-dir", (out / "report").string(), "--no-html"},
+       {"--strategy", "--max-spp", "--min-spp", "--no-html"}},
       {{"sweep", "--strategy", "light_area", "--seeds", "1", "--spp", "2", "--case-alpha", "0.05", "--threads", "1"},
        {"--strategy", "--seeds", "--spp"}},
   };
