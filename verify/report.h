@@ -1,7 +1,7 @@
 // Convergence reports: error against samples and against time, per scene and
 // strategy, written as CSV (for plotting) and Markdown (for reading), and as
 // report.json, the data from which scripts/plot_report.py draws the HTML
-// report's plots and images (verify/report_plots.h runs it).
+// report's plots and images (verify/report_html.h runs it).
 #pragma once
 
 #include <cstdint>

@@ -10,6 +10,9 @@
   or colour (an empty plot or a blank render would not);
 - negative controls: a uniform PNG and an empty plot are flagged trivial;
 - each scene has its four PNGs and the page has the seed figure;
+- (the content rule suits disk_occluder, the scene the test renders: a scene
+  whose exact reference is constant, a furnace, has a flat gray reference
+  image and would be flagged;)
 - the page's numbers are report.json's: each case's slope and the seed
   figure's RMSEs, times and variance ratios, formatted as the page formats them.
 """
