@@ -11,6 +11,7 @@ packages=(
   libopenexr-dev libimath-dev
   libcli11-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libbenchmark-dev
+  python3-matplotlib
 )
 
 missing=()

@@ -27,6 +27,9 @@
 #include "verify/harness.h"
 #include "verify/progress.h"
 #include "verify/report.h"
+#include "verify/report_html.h"
+#include "verify/seed_figure.h"
+#include "verify/verdict_export.h"
 #include "verify/statistics.h"
 
 namespace {
@@ -64,8 +67,14 @@ int run_render(const std::string& scene_path, const std::string& strategy, const
   return cli::kExitPass;
 }
 
+// Where `verify` writes its JSON and HTML twins of the table (empty: not asked for).
+struct VerifyOutputs {
+  std::string json_path, html_dir, command_line;
+};
+
 int run_verify(std::vector<std::string> scenes, std::vector<std::string> strategies, const std::string& defect,
-               int spp, uint64_t seed, int threads, double alpha, int max_depth, const std::string& light_selection) {
+               int spp, uint64_t seed, int threads, double alpha, int max_depth, const std::string& light_selection,
+               const VerifyOutputs& outputs) {
   // Empty: the built-in suite's own choice per case (it runs some scenes
   // under both), uniform for --scene files.
   const LightSelection selection =
@@ -105,6 +114,7 @@ int run_verify(std::vector<std::string> scenes, std::vector<std::string> strateg
   // Šidák: the cases share the family-wise α equally.
   if (cases.empty()) throw Error("no verification case matches the given --scene and --strategy options.");
   const double per_case_alpha = stats::sidak_alpha(alpha, cases.size());
+  if (!outputs.html_dir.empty()) cli::create_output_directory(outputs.html_dir, "--html");
   const std::string warning = verify::low_spp_warning(spp);
   if (!warning.empty()) std::fprintf(stderr, "furnace: warning: %s\n", warning.c_str());
   std::vector<verify::Verdict> verdicts;
@@ -115,38 +125,96 @@ int run_verify(std::vector<std::string> scenes, std::vector<std::string> strateg
   }
   progress.finish();
   std::fputs(verify::format_table(verdicts, alpha).c_str(), stdout);
+  if (!outputs.json_path.empty()) verify::write_verdicts_json(verdicts, alpha, outputs.json_path);
+  if (!outputs.html_dir.empty()) verify::write_verdicts_html(verdicts, alpha, outputs.command_line, outputs.html_dir);
   bool all_pass = true;
   for (const auto& v : verdicts) all_pass = all_pass && v.pass;
   std::puts(all_pass ? "verdict: PASS" : "verdict: FAIL");
   return all_pass ? 0 : 1;
 }
 
-int run_report(const std::vector<std::string>& strategies, int min_spp, int max_spp, uint64_t seed, int threads,
-               const std::string& dir, const std::string& command_line) {
+// The report's cases: the built-in suite, or each --scene file with the
+// chosen strategies (default: every direct strategy that sees its lights).
+std::vector<verify::Case> report_cases(const std::vector<std::string>& scenes, std::vector<std::string> strategies,
+                                       int max_spp, uint64_t seed, int threads) {
+  for (const std::string& name : strategies) parse_strategy(name);
+  std::vector<verify::Case> cases;
+  if (scenes.empty()) {
+    for (const verify::Case& c : verify::default_suite(max_spp, seed, threads)) {
+      const bool selected = strategies.empty() || std::find(strategies.begin(), strategies.end(),
+                                                            strategy_name(c.options.strategy)) != strategies.end();
+      if (selected) cases.push_back(c);
+    }
+    return cases;
+  }
+  const bool all_direct = strategies.empty();
+  if (all_direct)
+    for (Strategy s : direct_strategies()) strategies.push_back(strategy_name(s));
+  for (const std::string& path : scenes) {
+    const Scene scene = load_scene(path);  // fail fast on a bad file, before any rendering
+    for (const std::string& name : strategies) {
+      if (all_direct && !scene.point_lights.empty() && !strategy_sees_delta_lights(parse_strategy(name))) continue;
+      verify::Case c;
+      c.scene_path = path;
+      c.options.strategy = parse_strategy(name);
+      c.options.spp = max_spp;
+      c.options.seed = seed;
+      c.options.threads = threads;
+      cases.push_back(c);
+    }
+  }
+  return cases;
+}
+
+int run_report(const std::vector<std::string>& scenes, const std::vector<std::string>& strategies, int min_spp,
+               int max_spp, uint64_t seed, int threads, const std::string& dir, const std::string& command_line,
+               bool html) {
   if (min_spp > max_spp)
     throw Error(fmt::format("--min-spp ({}) must not exceed --max-spp ({}).", min_spp, max_spp));
-  for (const std::string& name : strategies) parse_strategy(name);
-  // Where the results go is settled before any rendering.
+  // Everything the HTML report needs is found, and where it goes is settled,
+  // before any rendering.
+  const verify::PlotTools tools = html ? verify::find_plot_tools() : verify::PlotTools{};
+  const std::vector<verify::Case> cases = report_cases(scenes, strategies, max_spp, seed, threads);
+  if (cases.empty()) throw Error("no report case matches the given --scene and --strategy options.");
   cli::create_output_directory(dir, "--output-dir");
-  std::vector<verify::Case> cases;
-  for (const verify::Case& c : verify::default_suite(max_spp, seed, threads)) {
-    const bool selected = strategies.empty() || std::find(strategies.begin(), strategies.end(),
-                                                          strategy_name(c.options.strategy)) != strategies.end();
-    if (selected) cases.push_back(c);
-  }
+  verify::Progress progress("report", cases.size() + (html ? 1 : 0));
+  const std::vector<verify::ReportCase> measured =
+      verify::measure_report(cases, min_spp, max_spp, [&](const verify::ReportCase& rc) {
+        progress.clear();
+        const auto& s = rc.series;
+        fmt::print("{:<16} {:<22} slope {:>7.3f}  rel. RMSE {:.3e} at {} spp in {:.3f} s\n", s.scene, s.strategy,
+                   s.slope, s.points.back().relative_rmse, s.points.back().spp, s.points.back().seconds);
+        progress.step();
+      });
   std::vector<verify::ConvergenceSeries> series;
-  verify::Progress progress("report", cases.size());
-  for (const verify::Case& c : cases) {
-    series.push_back(verify::measure_convergence(c, min_spp, max_spp));
-    progress.clear();
-    const auto& s = series.back();
-    fmt::print("{:<16} {:<22} slope {:>7.3f}  rel. RMSE {:.3e} at {} spp in {:.3f} s\n", s.scene, s.strategy, s.slope,
-               s.points.back().relative_rmse, s.points.back().spp, s.points.back().seconds);
-    progress.step();
+  for (const verify::ReportCase& rc : measured) series.push_back(rc.series);
+  if (!html) {
+    progress.finish();
+    verify::write_convergence_report(series, dir, command_line);
+    fmt::print("wrote {}/convergence.md and {}/convergence.csv (--no-html: no plots, images or index.html)\n", dir,
+               dir);
+    return 0;
   }
+  const verify::SeedFigure figure = verify::measure_seed_figure(seed, threads);
+  progress.step();
   progress.finish();
+  fmt::print("seed figure ({}, {}x{}): {} at {} spp rel. RMSE {:.3g} in {:.3f} s, {} at {} spp rel. RMSE {:.3g} in "
+             "{:.3f} s; pixel variance ratio predicted {:.3g}, measured {:.3g} (MSE ratio {:.3g})\n",
+             figure.scene, figure.width, figure.height, figure.hemisphere.strategy, figure.hemisphere.spp,
+             figure.hemisphere.relative_rmse, figure.hemisphere.seconds, figure.light.strategy, figure.light.spp,
+             figure.light.relative_rmse, figure.light.seconds, figure.predicted_variance_ratio,
+             figure.measured_variance_ratio, figure.measured_mse_ratio);
   verify::write_convergence_report(series, dir, command_line);
-  fmt::print("wrote {}/convergence.md and {}/convergence.csv\n", dir, dir);
+  verify::write_report_json(measured, figure, {command_line, min_spp, max_spp, seed}, dir);
+  const int status = verify::run_plot_script(tools, dir);
+  if (status != 0) {
+    std::fprintf(stderr, "furnace: error: %s %s failed (exit %d); %s has convergence.md, convergence.csv and "
+                 "report.json but no new index.html.\n", tools.python.c_str(), tools.script.c_str(), status,
+                 dir.c_str());
+    return cli::kExitFail;
+  }
+  fmt::print("wrote {}/index.html (plots and images), {}/convergence.md, {}/convergence.csv, {}/report.json\n", dir,
+             dir, dir, dir);
   return 0;
 }
 
@@ -311,19 +379,32 @@ int main(int argc, char** argv) {
                                         "named, never failed; below {} spp a warning says alpha is not calibrated.",
                                         stats::kMinVarianceTestSamples, verify::kMinCalibratedSpp));
 
-  std::vector<std::string> r_strategies;
+  std::string v_json, v_html;
+  verify_cmd->add_option("--json", v_json, "Also write every number of the verdict table as JSON to FILE")
+      ->check(cli::output_file().description(""))->type_name("FILE");
+  verify_cmd->add_option("--html", v_html, "Also write the verdict table as DIR/index.html (failing cases first)")
+      ->check(cli::output_directory().description(""))->type_name("DIR");
+
+  std::vector<std::string> r_scenes, r_strategies;
   int r_min_spp = 4, r_max_spp = 1024, r_threads = 0;
   uint64_t r_seed = 20261125;
   std::string r_dir = "reports/generated";
-  auto* report_cmd = app.add_subcommand("report", "Write convergence reports (error against spp and time) for the built-in suite");
+  auto* report_cmd = app.add_subcommand("report", "Write convergence reports (error against spp and time, plots, "
+                                        "images; HTML, Markdown, CSV) for the built-in suite or the given scenes");
+  report_cmd->add_option("--scene", r_scenes, "Scene file(s); default: the built-in suite");
   report_cmd->add_option("--strategy", r_strategies, "Strategy name(s); default: all")->check(CLI::IsMember(strategy_choices()));
   report_cmd->add_option("--min-spp", r_min_spp, "Smallest spp (doubled up to --max-spp)")->capture_default_str()->check(cli::integer_in(2, kMaxSpp));
   report_cmd->add_option("--max-spp", r_max_spp, "Largest spp")->capture_default_str()->check(cli::integer_in(2, kMaxSpp));
   report_cmd->add_option("--seed", r_seed, "Random seed")->capture_default_str()->check(cli::seed_value());
   report_cmd->add_option("--threads", r_threads, "Worker threads (0: all)")->capture_default_str()->check(cli::integer_in(0, kMaxThreads));
-  report_cmd->add_option("--output-dir", r_dir, "Directory for convergence.md and convergence.csv (created before "
-                         "any rendering)")->capture_default_str()->check(cli::output_directory());
-  with_contract(report_cmd);
+  report_cmd->add_option("--output-dir", r_dir, "Directory for index.html, its PNG files, report.json, "
+                         "convergence.md and convergence.csv (created before any rendering)")
+      ->capture_default_str()->check(cli::output_directory());
+  bool r_no_html = false;
+  report_cmd->add_flag("--no-html", r_no_html, "Write only convergence.md and convergence.csv: no plots, images, "
+                       "report.json or index.html (and no Python needed)");
+  with_contract(report_cmd, "report needs Python 3 with matplotlib (Debian: python3-matplotlib) for its plots and "
+                "images: without it, it exits 2 before rendering anything (--no-html does without).");
 
   std::string a_scene;
   std::array<double, 3> a_point{}, a_normal{};
@@ -450,9 +531,15 @@ int main(int argc, char** argv) {
     if (*report_cmd) {
       std::string command_line = "furnace";
       for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
-      return run_report(r_strategies, r_min_spp, r_max_spp, r_seed, r_threads, r_dir, command_line);
+      return run_report(r_scenes, r_strategies, r_min_spp, r_max_spp, r_seed, r_threads, r_dir, command_line,
+                        !r_no_html);
     }
-    if (*verify_cmd) return run_verify(v_scenes, v_strategies, v_defect, v_spp, v_seed, v_threads, v_alpha, v_max_depth, v_light_selection);
+    if (*verify_cmd) {
+      std::string command_line = "furnace";
+      for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
+      return run_verify(v_scenes, v_strategies, v_defect, v_spp, v_seed, v_threads, v_alpha, v_max_depth,
+                        v_light_selection, {v_json, v_html, command_line});
+    }
   } catch (const furnace::Error& e) {
     std::fprintf(stderr, "furnace: error: %s\n", e.what());
     return cli::kExitBadInput;

@@ -1,5 +1,6 @@
 #include "verify/report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -29,18 +30,25 @@ double least_squares_slope(const std::vector<double>& x, const std::vector<doubl
 
 }  // namespace
 
-ConvergenceSeries measure_convergence(const Case& c, int min_spp, int max_spp) {
+std::string case_strategy_label(const RenderOptions& options) {
+  std::string label = strategy_name(options.strategy);
+  if (options.max_depth != kUnlimitedDepth) label += "/d" + std::to_string(options.max_depth);
+  if (options.light_selection == LightSelection::kPower) label += "@power";
+  return label;
+}
+
+ConvergenceSeries measure_convergence(const Case& c, int min_spp, int max_spp, Image* largest,
+                                      std::vector<double>* reference_out) {
   const Scene scene = load_scene(c.scene_path);
   const std::vector<double> reference = reference_for(scene, c.options);
+  if (reference_out) *reference_out = reference;
   double reference_mean = 0;
   for (double r : reference) reference_mean += r;
   reference_mean /= double(reference.size());
 
   ConvergenceSeries series;
   series.scene = scene.name;
-  series.strategy = strategy_name(c.options.strategy);
-  if (c.options.max_depth != kUnlimitedDepth)
-    series.strategy += "/d" + std::to_string(c.options.max_depth);
+  series.strategy = case_strategy_label(c.options);
   std::vector<double> log_spp, log_rmse;
   for (int spp = min_spp; spp <= max_spp; spp *= 2) {
     RenderOptions options = c.options;
@@ -61,6 +69,7 @@ ConvergenceSeries measure_convergence(const Case& c, int min_spp, int max_spp) {
       log_spp.push_back(std::log(double(spp)));
       log_rmse.push_back(std::log(p.rmse));
     }
+    if (largest && 2 * int64_t(spp) > max_spp) *largest = image;
   }
   series.slope = log_spp.size() >= 2 ? least_squares_slope(log_spp, log_rmse) : 0.0;
   const ConvergencePoint& last = series.points.back();
@@ -85,7 +94,9 @@ void write_convergence_report(const std::vector<ConvergenceSeries>& series, cons
                     "Slope: least-squares slope of log RMSE against log spp (−0.5 for an unbiased\n"
                     "estimator of finite variance). Efficiency: 1/(relative MSE × seconds) at the\n"
                     "largest spp, the usual variance-times-cost figure of merit (higher is better).\n"
-                    "Times are wall-clock on the machine that generated the report.\n\n",
+                    "Times are wall-clock on the machine that generated the report. A strategy\n"
+                    "`name@power` runs under power light selection (uniform otherwise); `name/dN`\n"
+                    "is a path tracer limited to N segments.\n\n",
                     command_line);
   std::map<std::string, std::vector<const ConvergenceSeries*>> by_scene;
   std::vector<std::string> scene_order;
@@ -117,6 +128,64 @@ void write_convergence_report(const std::vector<ConvergenceSeries>& series, cons
   }
   write_text_file_atomically(std::filesystem::path(dir) / "convergence.csv", csv, "report file");
   write_text_file_atomically(std::filesystem::path(dir) / "convergence.md", md, "report file");
+}
+
+ReportRender report_render(const Image& image, int spp) {
+  ReportRender r;
+  r.spp = spp;
+  r.seconds = image.seconds;
+  for (const PixelMoments& m : image.pixels) {
+    r.mean.push_back(m.mean);
+    r.variance.push_back(m.sample_variance());
+  }
+  return r;
+}
+
+int equal_time_spp(double budget, double seconds_at_max, int max_spp) {
+  if (!(seconds_at_max > 0) || !(budget > 0)) return max_spp;
+  const double spp = std::floor(double(max_spp) * budget / seconds_at_max);
+  return int(std::clamp(spp, 1.0, double(max_spp)));
+}
+
+std::vector<ReportCase> measure_report(const std::vector<Case>& cases, int min_spp, int max_spp,
+                                       const std::function<void(const ReportCase&)>& on_case) {
+  std::vector<ReportCase> out;
+  // The process's first render also starts the thread pool and Embree's
+  // device; one untimed render first keeps that out of the first case's times.
+  if (!cases.empty()) {
+    RenderOptions warm_up = cases.front().options;
+    warm_up.spp = 1;
+    render(load_scene(cases.front().scene_path), warm_up);
+  }
+  for (const Case& c : cases) {
+    ReportCase rc;
+    Image largest;
+    rc.series = measure_convergence(c, min_spp, max_spp, &largest, &rc.reference);
+    rc.width = largest.width;
+    rc.height = largest.height;
+    rc.equal_spp = report_render(largest, rc.series.points.back().spp);
+    out.push_back(std::move(rc));
+    if (on_case) on_case(out.back());
+  }
+  // Equal time: per scene, the budget is the fastest case's time at max_spp.
+  std::map<std::string, double> budget;
+  for (const ReportCase& rc : out) {
+    auto [it, inserted] = budget.emplace(rc.series.scene, rc.equal_spp.seconds);
+    if (!inserted) it->second = std::min(it->second, rc.equal_spp.seconds);
+  }
+  for (size_t i = 0; i < out.size(); ++i) {
+    ReportCase& rc = out[i];
+    rc.time_budget = budget[rc.series.scene];
+    const int spp = equal_time_spp(rc.time_budget, rc.equal_spp.seconds, rc.equal_spp.spp);
+    if (spp == rc.equal_spp.spp) {
+      rc.equal_time = rc.equal_spp;
+      continue;
+    }
+    RenderOptions options = cases[i].options;
+    options.spp = spp;
+    rc.equal_time = report_render(render(load_scene(cases[i].scene_path), options), spp);
+  }
+  return out;
 }
 
 }  // namespace furnace::verify
