@@ -188,14 +188,17 @@ void EmbreeDevice::check(const std::string& what) const {
   throw Error(fmt::format("Embree failed while {}: {} ({}).", what, error_name(error_->code), error_->message));
 }
 
-EmbreeScene::EmbreeScene(const EmbreeDevice& device, const Scene& scene) : device_(device), scene_(scene) {
+EmbreeScene::EmbreeScene(const EmbreeDevice& device, const Scene& scene, EndpointFilter endpoint_filter)
+    : device_(device), scene_(scene), endpoint_filter_(endpoint_filter) {
   rtc_scene_ = rtcNewScene(device.get());
   // Robust mode: watertight traversal, so rays through shared quad edges are not lost.
   rtcSetSceneFlags(rtc_scene_, RTC_SCENE_FLAG_ROBUST);
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     RTCGeometry geom = make_geometry(device.get(), scene.objects[i].shape);
-    rtcSetGeometryIntersectFilterFunction(geom, &EmbreeScene::filter);
-    rtcSetGeometryOccludedFilterFunction(geom, &EmbreeScene::filter);
+    if (endpoint_filter == EndpointFilter::kExactEndpoints) {
+      rtcSetGeometryIntersectFilterFunction(geom, &EmbreeScene::filter);
+      rtcSetGeometryOccludedFilterFunction(geom, &EmbreeScene::filter);
+    }
     rtcCommitGeometry(geom);
     rtcAttachGeometryByID(rtc_scene_, geom, static_cast<unsigned>(i));  // geomID == object index
     rtcReleaseGeometry(geom);
@@ -216,6 +219,7 @@ EmbreeScene::~EmbreeScene() {
 }
 
 std::optional<SurfaceHit> EmbreeScene::intersect(const Vec3& origin, const Vec3& direction, double t_max) const {
+  if (ray_log_) ray_log_->push_back({origin, direction, t_max, false});
   RayQuery query(this, origin, direction, t_max);
   RTCRayHit rayhit;
   rayhit.ray = make_ray(origin, direction, t_max);
@@ -230,6 +234,7 @@ std::optional<SurfaceHit> EmbreeScene::intersect(const Vec3& origin, const Vec3&
 }
 
 bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, double t_max) const {
+  if (ray_log_) ray_log_->push_back({origin, direction, t_max, true});
   RayQuery query(this, origin, direction, t_max);
   RTCRay ray = make_ray(origin, direction, t_max);
   rtcOccluded1(rtc_scene_, &query.context, &ray);

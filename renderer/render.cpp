@@ -65,8 +65,13 @@ Image render(const Scene& scene, const RenderOptions& options) {
   std::optional<tbb::global_control> thread_limit;
   if (options.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(options.threads));
 
+  if (options.ray_log && options.threads != 1)
+    throw Error(fmt::format("render option ray_log needs threads = 1 (one ordered log), got threads = {}.",
+                            options.threads));
+
   const EmbreeDevice device;
-  const EmbreeScene rtc_scene(device, scene);
+  EmbreeScene rtc_scene(device, scene);
+  rtc_scene.record_rays(options.ray_log);
   const LightSet lights(scene, options.light_selection);
   if (samples_lights(options.strategy) && lights.count() == 0)
     throw Error(fmt::format("scene '{}' has no emitter and no environment, so strategy '{}' has no light to sample.",
