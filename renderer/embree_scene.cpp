@@ -159,13 +159,16 @@ void EmbreeDevice::on_error(void* user, RTCError code, const char* message) {
 // the RTCIntersectContext comes first, the filter casts it back).
 struct EmbreeScene::RayQuery {
   RayQuery(const EmbreeScene* scene_, const Vec3& origin_, const Vec3& direction_, double t_max_)
-      : scene(scene_), origin(origin_), direction(direction_), t_max(t_max_) {
+      : scene(scene_), origin(origin_), direction(direction_), t_max(t_max_), segment(std::isfinite(t_max_)) {
     rtcInitIntersectContext(&context);
+    if (segment) end = origin + direction * t_max;
   }
   RTCIntersectContext context;
   const EmbreeScene* scene;
   Vec3 origin, direction;
   double t_max;
+  bool segment;  // a finite segment, ending at `end`
+  Vec3 end;      // computed once per query: the filter may run for several candidates
 };
 
 EmbreeDevice::EmbreeDevice() : error_(std::make_unique<ErrorRecord>()) {
@@ -277,10 +280,11 @@ SurfaceHit EmbreeScene::refine(size_t object, const Vec3& origin, const Vec3& di
 
 bool EmbreeScene::on_surface(size_t object, const Vec3& x) const {
   const double tolerance = kOnSurfaceRelative * (max_abs_component(x) + object_extent_[object]);
-  return std::visit(
-      overloaded{[&](const Plane& plane) { return std::fabs(dot(x - plane.point, plane.normal)) <= tolerance; },
-                 [&](const Sphere& s) { return std::fabs(length(x - s.center) - s.radius) <= tolerance; }},
-      surface_[object]);
+  // get_if rather than std::visit: this runs for every candidate hit.
+  if (const Plane* plane = std::get_if<Plane>(&surface_[object]))
+    return std::fabs(dot(x - plane->point, plane->normal)) <= tolerance;
+  const Sphere& s = std::get<Sphere>(surface_[object]);
+  return std::fabs(length(x - s.center) - s.radius) <= tolerance;
 }
 
 bool EmbreeScene::is_endpoint_surface(size_t object, const RayQuery& query, double t_candidate) const {
@@ -288,17 +292,15 @@ bool EmbreeScene::is_endpoint_surface(size_t object, const RayQuery& query, doub
   // surface only at its end: the sampled point faces the segment's origin, so
   // it is the surface's first crossing (planes are crossed once; a sphere's
   // near side is its first).
-  if (std::isfinite(query.t_max) && on_surface(object, query.origin + query.direction * query.t_max)) return true;
+  if (query.segment && on_surface(object, query.end)) return true;
   if (!on_surface(object, query.origin)) return false;
   // A ray leaving a plane never meets it again, nor one leaving a sphere
   // outwards; a ray entering a sphere meets it again only at the far end of
   // its chord, at t = −2·(o − c)·d: reject what lies before the chord's middle.
-  return std::visit(overloaded{[](const Plane&) { return true; },
-                               [&](const Sphere& s) {
-                                 const double half_chord = -dot(query.origin - s.center, query.direction);
-                                 return !(half_chord > 0 && t_candidate > half_chord);
-                               }},
-                    surface_[object]);
+  const Sphere* s = std::get_if<Sphere>(&surface_[object]);
+  if (!s) return true;
+  const double half_chord = -dot(query.origin - s->center, query.direction);
+  return !(half_chord > 0 && t_candidate > half_chord);
 }
 
 void EmbreeScene::filter(const RTCFilterFunctionNArguments* args) {

@@ -106,8 +106,9 @@ Image render(const Scene& scene, const RenderOptions& options) {
       std::optional<ShadingContext> ctx;
       if (hit) ctx = ShadingContext::at(*hit, -ray.direction, scene.objects[hit->object].material, options.defect);
       PixelMoments& moments = image.pixels[pixel];
+      const uint64_t pixel_key = Rng::pixel_key(options.seed, pixel);
       for (int s = 0; s < options.spp; ++s) {
-        Rng rng(options.seed, pixel, uint64_t(s));
+        Rng rng = Rng::for_sample(pixel_key, uint64_t(s));
         double y;
         if (path) y = path_tracer.radiance(ray.direction, hit, rng, c);
         else y = ctx ? le + direct.estimate(*ctx, rng, c) : le;
