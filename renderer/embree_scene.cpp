@@ -159,13 +159,16 @@ void EmbreeDevice::on_error(void* user, RTCError code, const char* message) {
 // the RTCIntersectContext comes first, the filter casts it back).
 struct EmbreeScene::RayQuery {
   RayQuery(const EmbreeScene* scene_, const Vec3& origin_, const Vec3& direction_, double t_max_)
-      : scene(scene_), origin(origin_), direction(direction_), t_max(t_max_) {
+      : scene(scene_), origin(origin_), direction(direction_), t_max(t_max_), segment(std::isfinite(t_max_)) {
     rtcInitIntersectContext(&context);
+    if (segment) end = origin + direction * t_max;
   }
   RTCIntersectContext context;
   const EmbreeScene* scene;
   Vec3 origin, direction;
   double t_max;
+  bool segment;  // a finite segment, ending at `end`
+  Vec3 end;      // computed once per query: the filter may run for several candidates
 };
 
 EmbreeDevice::EmbreeDevice() : error_(std::make_unique<ErrorRecord>()) {
@@ -188,14 +191,17 @@ void EmbreeDevice::check(const std::string& what) const {
   throw Error(fmt::format("Embree failed while {}: {} ({}).", what, error_name(error_->code), error_->message));
 }
 
-EmbreeScene::EmbreeScene(const EmbreeDevice& device, const Scene& scene) : device_(device), scene_(scene) {
+EmbreeScene::EmbreeScene(const EmbreeDevice& device, const Scene& scene, EndpointFilter endpoint_filter)
+    : device_(device), scene_(scene), endpoint_filter_(endpoint_filter) {
   rtc_scene_ = rtcNewScene(device.get());
   // Robust mode: watertight traversal, so rays through shared quad edges are not lost.
   rtcSetSceneFlags(rtc_scene_, RTC_SCENE_FLAG_ROBUST);
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     RTCGeometry geom = make_geometry(device.get(), scene.objects[i].shape);
-    rtcSetGeometryIntersectFilterFunction(geom, &EmbreeScene::filter);
-    rtcSetGeometryOccludedFilterFunction(geom, &EmbreeScene::filter);
+    if (endpoint_filter == EndpointFilter::kExactEndpoints) {
+      rtcSetGeometryIntersectFilterFunction(geom, &EmbreeScene::filter);
+      rtcSetGeometryOccludedFilterFunction(geom, &EmbreeScene::filter);
+    }
     rtcCommitGeometry(geom);
     rtcAttachGeometryByID(rtc_scene_, geom, static_cast<unsigned>(i));  // geomID == object index
     rtcReleaseGeometry(geom);
@@ -216,6 +222,7 @@ EmbreeScene::~EmbreeScene() {
 }
 
 std::optional<SurfaceHit> EmbreeScene::intersect(const Vec3& origin, const Vec3& direction, double t_max) const {
+  if (ray_log_) ray_log_->push_back({origin, direction, t_max, false});
   RayQuery query(this, origin, direction, t_max);
   RTCRayHit rayhit;
   rayhit.ray = make_ray(origin, direction, t_max);
@@ -230,6 +237,7 @@ std::optional<SurfaceHit> EmbreeScene::intersect(const Vec3& origin, const Vec3&
 }
 
 bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, double t_max) const {
+  if (ray_log_) ray_log_->push_back({origin, direction, t_max, true});
   RayQuery query(this, origin, direction, t_max);
   RTCRay ray = make_ray(origin, direction, t_max);
   rtcOccluded1(rtc_scene_, &query.context, &ray);
@@ -272,10 +280,11 @@ SurfaceHit EmbreeScene::refine(size_t object, const Vec3& origin, const Vec3& di
 
 bool EmbreeScene::on_surface(size_t object, const Vec3& x) const {
   const double tolerance = kOnSurfaceRelative * (max_abs_component(x) + object_extent_[object]);
-  return std::visit(
-      overloaded{[&](const Plane& plane) { return std::fabs(dot(x - plane.point, plane.normal)) <= tolerance; },
-                 [&](const Sphere& s) { return std::fabs(length(x - s.center) - s.radius) <= tolerance; }},
-      surface_[object]);
+  // get_if rather than std::visit: this runs for every candidate hit.
+  if (const Plane* plane = std::get_if<Plane>(&surface_[object]))
+    return std::fabs(dot(x - plane->point, plane->normal)) <= tolerance;
+  const Sphere& s = std::get<Sphere>(surface_[object]);
+  return std::fabs(length(x - s.center) - s.radius) <= tolerance;
 }
 
 bool EmbreeScene::is_endpoint_surface(size_t object, const RayQuery& query, double t_candidate) const {
@@ -283,17 +292,15 @@ bool EmbreeScene::is_endpoint_surface(size_t object, const RayQuery& query, doub
   // surface only at its end: the sampled point faces the segment's origin, so
   // it is the surface's first crossing (planes are crossed once; a sphere's
   // near side is its first).
-  if (std::isfinite(query.t_max) && on_surface(object, query.origin + query.direction * query.t_max)) return true;
+  if (query.segment && on_surface(object, query.end)) return true;
   if (!on_surface(object, query.origin)) return false;
   // A ray leaving a plane never meets it again, nor one leaving a sphere
   // outwards; a ray entering a sphere meets it again only at the far end of
   // its chord, at t = −2·(o − c)·d: reject what lies before the chord's middle.
-  return std::visit(overloaded{[](const Plane&) { return true; },
-                               [&](const Sphere& s) {
-                                 const double half_chord = -dot(query.origin - s.center, query.direction);
-                                 return !(half_chord > 0 && t_candidate > half_chord);
-                               }},
-                    surface_[object]);
+  const Sphere* s = std::get_if<Sphere>(&surface_[object]);
+  if (!s) return true;
+  const double half_chord = -dot(query.origin - s->center, query.direction);
+  return !(half_chord > 0 && t_candidate > half_chord);
 }
 
 void EmbreeScene::filter(const RTCFilterFunctionNArguments* args) {

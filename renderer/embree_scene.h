@@ -56,10 +56,25 @@ struct SurfaceHit {
   bool front_facing = false;  // the ray arrived on the front side: dot(direction, normal) < 0
 };
 
+// A ray as the renderer asked Embree for it, recorded for benchmarks that
+// replay the same rays through Embree alone (bench/renderer_bench.cpp).
+struct TracedRay {
+  Vec3 origin, direction;
+  double t_max = 0;     // +inf for an intersection query without a bound
+  bool shadow = false;  // an occlusion query (rtcOccluded1), else rtcIntersect1
+};
+
+// Whether the scene rejects the surfaces a ray starts and ends on (see the
+// file comment). Only kExactEndpoints is correct for rendering; kNone leaves
+// Embree's geometry without filter functions, for raw-throughput benchmarks
+// that call rtcIntersect1/rtcOccluded1 on rtc_scene() with their own context.
+enum class EndpointFilter { kExactEndpoints, kNone };
+
 class EmbreeScene {
  public:
   // Builds and commits; throws furnace::Error on an Embree error.
-  EmbreeScene(const EmbreeDevice& device, const Scene& scene);
+  EmbreeScene(const EmbreeDevice& device, const Scene& scene,
+              EndpointFilter endpoint_filter = EndpointFilter::kExactEndpoints);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
@@ -71,8 +86,16 @@ class EmbreeScene {
   bool occluded(const Vec3& origin, const Vec3& direction, double t_max) const;
 
   const Scene& scene() const { return scene_; }
-  // The committed Embree scene, for raw-throughput benchmarks only.
+  // The committed Embree scene, for raw-throughput benchmarks only. Its
+  // filter functions (EndpointFilter::kExactEndpoints) read the query behind
+  // the context intersect() and occluded() pass: a plain RTCIntersectContext
+  // is only valid on a scene built with EndpointFilter::kNone.
   RTCScene rtc_scene() const { return rtc_scene_; }
+  EndpointFilter endpoint_filter() const { return endpoint_filter_; }
+
+  // Appends every query intersect() and occluded() receive to `log` (nullptr:
+  // stop). Not thread-safe: for single-threaded renders that benchmarks replay.
+  void record_rays(std::vector<TracedRay>* log) { ray_log_ = log; }
 
   // The exact surface hits are refined against: a flat shape's plane (a
   // point on it and its front normal) or a sphere.
@@ -92,7 +115,9 @@ class EmbreeScene {
 
   const EmbreeDevice& device_;
   const Scene& scene_;
+  EndpointFilter endpoint_filter_;
   RTCScene rtc_scene_ = nullptr;
+  std::vector<TracedRay>* ray_log_ = nullptr;
   std::vector<double> object_extent_;  // largest |coordinate| of each object's bounding box
   std::vector<ExactSurface> surface_;  // each object's exact surface, computed once
 };

@@ -65,8 +65,13 @@ Image render(const Scene& scene, const RenderOptions& options) {
   std::optional<tbb::global_control> thread_limit;
   if (options.threads > 0) thread_limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(options.threads));
 
+  if (options.ray_log && options.threads != 1)
+    throw Error(fmt::format("render option ray_log needs threads = 1 (one ordered log), got threads = {}.",
+                            options.threads));
+
   const EmbreeDevice device;
-  const EmbreeScene rtc_scene(device, scene);
+  EmbreeScene rtc_scene(device, scene);
+  rtc_scene.record_rays(options.ray_log);
   const LightSet lights(scene, options.light_selection);
   if (samples_lights(options.strategy) && lights.count() == 0)
     throw Error(fmt::format("scene '{}' has no emitter and no environment, so strategy '{}' has no light to sample.",
@@ -101,8 +106,9 @@ Image render(const Scene& scene, const RenderOptions& options) {
       std::optional<ShadingContext> ctx;
       if (hit) ctx = ShadingContext::at(*hit, -ray.direction, scene.objects[hit->object].material, options.defect);
       PixelMoments& moments = image.pixels[pixel];
+      const uint64_t pixel_key = Rng::pixel_key(options.seed, pixel);
       for (int s = 0; s < options.spp; ++s) {
-        Rng rng(options.seed, pixel, uint64_t(s));
+        Rng rng = Rng::for_sample(pixel_key, uint64_t(s));
         double y;
         if (path) y = path_tracer.radiance(ray.direction, hit, rng, c);
         else y = ctx ? le + direct.estimate(*ctx, rng, c) : le;

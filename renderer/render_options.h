@@ -3,10 +3,13 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "core/strategy.h"
 
 namespace furnace {
+
+struct TracedRay;  // renderer/embree_scene.h
 
 struct RenderOptions {
   Strategy strategy = Strategy::kLightArea;
@@ -21,6 +24,9 @@ struct RenderOptions {
   // reweighted by 1/p).
   int max_depth = kUnlimitedDepth;
   int roulette_depth = 3;
+  // Benchmarks only: every ray the render traces is appended here, in the
+  // order traced (render() then requires threads == 1).
+  std::vector<TracedRay>* ray_log = nullptr;
 };
 
 }  // namespace furnace

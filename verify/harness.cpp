@@ -7,6 +7,9 @@
 #include <optional>
 
 #include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 
 #include "analytic/global.h"
 #include "analytic/moments.h"
@@ -32,10 +35,35 @@ std::string low_spp_warning(int spp) {
 constexpr double kPredictedVarianceRoundOff = 64 * std::numeric_limits<double>::epsilon();
 
 
+namespace {
+
+// Calls per_pixel(i) for every pixel index i < n on `threads` workers (0: all).
+// The analytic per-pixel values are pure functions of the pixel, each written
+// to its own slot, so the result does not depend on the thread count; an
+// exception from any pixel propagates (TBB rethrows it).
+template <class PerPixel>
+void for_each_pixel(size_t n, int threads, PerPixel per_pixel) {
+  std::optional<tbb::global_control> limit;
+  if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) per_pixel(i);
+  });
+}
+
+}  // namespace
+
 std::vector<double> reference_for(const Scene& scene, const RenderOptions& options) {
-  std::vector<double> reference = is_path_tracer(options.strategy)
-                                      ? analytic::global_reference_image(scene, options.max_depth)
-                                      : analytic::reference_image(scene);
+  std::vector<double> reference;
+  if (is_path_tracer(options.strategy)) {
+    reference = analytic::global_reference_image(scene, options.max_depth);
+  } else {
+    // analytic::reference_image's pixels, computed in parallel.
+    const size_t width = size_t(scene.camera.width_px);
+    reference.resize(width * size_t(scene.camera.height_px));
+    for_each_pixel(reference.size(), options.threads, [&](size_t i) {
+      reference[i] = analytic::pixel_center_radiance(scene, int(i % width), int(i / width));
+    });
+  }
   require_finite_reference(reference, scene);
   return reference;
 }
@@ -156,15 +184,15 @@ Verdict run_case(const Case& c, double per_case_alpha) {
   if (has_variance_model(c.options.strategy)) {
     try {
       predicted_variance.resize(reference.size());
-      for (int py = 0; py < image.height; ++py)
-        for (int px = 0; px < image.width; ++px) {
-          const size_t i = size_t(py) * image.width + px;
-          const double m2 = analytic::pixel_center_second_moment(c.options.strategy, scene, px, py, c.options.light_selection);
-          const double e2 = reference[i] * reference[i];
-          // An exact estimator (a lone point light) has E[Y²] = E², computed
-          // along two double paths: a difference within round-off is zero.
-          predicted_variance[i] = m2 - e2 <= kPredictedVarianceRoundOff * e2 ? 0.0 : m2 - e2;
-        }
+      const size_t width = size_t(image.width);
+      for_each_pixel(reference.size(), c.options.threads, [&](size_t i) {
+        const double m2 = analytic::pixel_center_second_moment(c.options.strategy, scene, int(i % width),
+                                                               int(i / width), c.options.light_selection);
+        const double e2 = reference[i] * reference[i];
+        // An exact estimator (a lone point light) has E[Y²] = E², computed
+        // along two double paths: a difference within round-off is zero.
+        predicted_variance[i] = m2 - e2 <= kPredictedVarianceRoundOff * e2 ? 0.0 : m2 - e2;
+      });
     } catch (const Error&) {
       predicted_variance.clear();  // not modelled for this scene: mean tests only
     }

@@ -119,6 +119,62 @@ TEST(EmbreeScene, SpawnedRaysNeverHitTheirOwnSurface) {
   }
 }
 
+TEST(EmbreeScene, RecordsEveryQueryInOrder) {
+  const Scene scene = four_shapes();
+  const EmbreeDevice device;
+  EmbreeScene rtc(device, scene);
+  std::vector<TracedRay> log;
+  rtc.record_rays(&log);
+  rtc.intersect({10, 10, 10}, {0, 0, 1});
+  rtc.occluded({1, 2, 3}, {1, 0, 0}, 2.5);
+  rtc.record_rays(nullptr);
+  rtc.intersect({0, 0, 0}, {0, 1, 0});
+  ASSERT_EQ(log.size(), 2u);
+  EXPECT_FALSE(log[0].shadow);
+  EXPECT_EQ(log[0].origin.z, 10.0);
+  EXPECT_TRUE(std::isinf(log[0].t_max));
+  EXPECT_TRUE(log[1].shadow);
+  EXPECT_EQ(log[1].direction.x, 1.0);
+  EXPECT_EQ(log[1].t_max, 2.5);
+}
+
+TEST(EmbreeScene, WithoutEndpointFiltersTakesAPlainContext) {
+  // Raw queries on rtc_scene() with a plain RTCIntersectContext (what the
+  // ceiling benchmark does): valid without the filters, and the same first
+  // object as furnace's query for a ray that does not start on a surface.
+  const Scene scene = four_shapes();
+  const EmbreeDevice device;
+  const EmbreeScene raw(device, scene, EndpointFilter::kNone);
+  const EmbreeScene exact(device, scene);
+  EXPECT_EQ(raw.endpoint_filter(), EndpointFilter::kNone);
+  EXPECT_EQ(exact.endpoint_filter(), EndpointFilter::kExactEndpoints);
+  int hits = 0;
+  for (int i = 0; i < 200; ++i) {
+    Rng rng(kSeed, 1, uint64_t(i));
+    const Vec3 origin{8 * rng.next_double() - 4, 8 * rng.next_double() - 4, 9.0};
+    const Vec3 direction = normalize(Vec3{0.2 * rng.next_double() - 0.1, 0.2 * rng.next_double() - 0.1, -1});
+    const auto expected = exact.intersect(origin, direction);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh;
+    rh.ray.org_x = float(origin.x); rh.ray.org_y = float(origin.y); rh.ray.org_z = float(origin.z);
+    rh.ray.dir_x = float(direction.x); rh.ray.dir_y = float(direction.y); rh.ray.dir_z = float(direction.z);
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = std::numeric_limits<float>::infinity();
+    rh.ray.time = 0.0f;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.id = rh.ray.flags = 0;
+    rh.hit.geomID = rh.hit.primID = rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(raw.rtc_scene(), &context, &rh);
+    ASSERT_EQ(rh.hit.geomID != RTC_INVALID_GEOMETRY_ID, expected.has_value()) << i;
+    if (expected) {
+      EXPECT_EQ(rh.hit.geomID, expected->object) << i;
+      ++hits;
+    }
+  }
+  EXPECT_GT(hits, 0);
+}
+
 TEST(EmbreeDevice, ErrorsAreRecordedAndRaised) {
   const EmbreeDevice device;
   EXPECT_NO_THROW(device.check("doing nothing"));

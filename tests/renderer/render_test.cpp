@@ -7,8 +7,10 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "core/error.h"
+#include "renderer/embree_scene.h"
 #include "renderer/render.h"
 #include "test_support.h"
 #include "tests/renderer/strategy_names.h"
@@ -329,6 +331,30 @@ TEST(Names, RoundTripAndErrorsNameTheValue) {
     EXPECT_NE(what.find("uniform_hemisphere, cosine_hemisphere, light_area"), std::string::npos) << what;
   }
   EXPECT_THROW(parse_defect("skip_shadow"), Error);
+}
+
+TEST(Render, RayLogHoldsEveryTracedRay) {
+  const Scene scene = default_scene();
+  for (Strategy strategy : {Strategy::kLightArea, Strategy::kMisPower, Strategy::kPathMis}) {
+    std::vector<TracedRay> log;
+    RenderOptions o;
+    o.strategy = strategy;
+    o.spp = 4;
+    o.threads = 1;
+    o.ray_log = &log;
+    const Image logged = render(scene, o);
+    EXPECT_EQ(log.size(), logged.rays) << strategy_name(strategy);
+    o.ray_log = nullptr;
+    o.threads = 2;
+    const Image plain = render(scene, o);  // logging changes nothing in the image
+    ASSERT_EQ(plain.pixels.size(), logged.pixels.size());
+    for (size_t i = 0; i < plain.pixels.size(); ++i) ASSERT_EQ(plain.pixels[i].mean, logged.pixels[i].mean) << i;
+  }
+  std::vector<TracedRay> log;
+  RenderOptions o;
+  o.ray_log = &log;
+  o.threads = 2;
+  EXPECT_THROW(render(scene, o), Error);
 }
 
 TEST(Render, RejectsBadOptionsAndLightlessScenes) {

@@ -270,5 +270,18 @@ TEST(TriangleBarycentric, InverseRoundTripAndJacobian) {
   EXPECT_EQ(uniform_triangle_barycentric_pdf({-0.1, 0.6, 0.5}), 0.0);
 }
 
+TEST(Rng, PixelKeyStreamsAreTheTripleStreams) {
+  // render() hashes a pixel's key once and derives each sample's stream from
+  // it: the draws must be those of Rng(seed, pixel, sample).
+  for (uint64_t seed : {uint64_t(0), uint64_t(7), uint64_t(20261125), ~uint64_t(0)})
+    for (uint64_t pixel : {uint64_t(0), uint64_t(1), uint64_t(1023), uint64_t(1) << 40})
+      for (uint64_t sample : {uint64_t(0), uint64_t(1), uint64_t(4095)}) {
+        Rng triple(seed, pixel, sample);
+        Rng keyed = Rng::for_sample(Rng::pixel_key(seed, pixel), sample);
+        for (int k = 0; k < 8; ++k) ASSERT_EQ(triple.next_u64(), keyed.next_u64()) << seed << " " << pixel << " " << sample;
+      }
+  EXPECT_NE(Rng::for_sample(Rng::pixel_key(7, 3), 0).next_u64(), Rng::for_sample(Rng::pixel_key(7, 4), 0).next_u64());
+}
+
 }  // namespace
 }  // namespace furnace
