@@ -280,11 +280,10 @@ SurfaceHit EmbreeScene::refine(size_t object, const Vec3& origin, const Vec3& di
 
 bool EmbreeScene::on_surface(size_t object, const Vec3& x) const {
   const double tolerance = kOnSurfaceRelative * (max_abs_component(x) + object_extent_[object]);
-  // get_if rather than std::visit: this runs for every candidate hit.
-  if (const Plane* plane = std::get_if<Plane>(&surface_[object]))
-    return std::fabs(dot(x - plane->point, plane->normal)) <= tolerance;
-  const Sphere& s = std::get<Sphere>(surface_[object]);
-  return std::fabs(length(x - s.center) - s.radius) <= tolerance;
+  return std::visit(
+      overloaded{[&](const Plane& plane) { return std::fabs(dot(x - plane.point, plane.normal)) <= tolerance; },
+                 [&](const Sphere& s) { return std::fabs(length(x - s.center) - s.radius) <= tolerance; }},
+      surface_[object]);
 }
 
 bool EmbreeScene::is_endpoint_surface(size_t object, const RayQuery& query, double t_candidate) const {
