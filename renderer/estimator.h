@@ -87,15 +87,15 @@ inline double pdf_in_weight(double pdf_solid_angle, Defect defect) {
   return defect == Defect::kPdfOffByConstant ? kDefectPdfFactor * pdf_solid_angle : pdf_solid_angle;
 }
 
-// DEFECT(ray_offset_1e3): rays leave a surface from a point moved this far
+// DEFECT(ray_offset_1e4): rays leave a surface from a point moved this far
 // along its normal (face-forwarded towards the ray), a fixed absolute epsilon,
 // so they pass over anything closer to the surface than that.
-inline constexpr double kDefectRayOffset = 1e-3;
+inline constexpr double kDefectRayOffset = 1e-4;
 // Origin of a ray (a continuation or a shadow ray) leaving `point`, on a
 // surface of front normal `normal`, towards `direction`: the point itself
 // (the intersection filters keep the ray off its own surface).
 inline Vec3 ray_origin(const Vec3& point, const Vec3& normal, const Vec3& direction, Defect defect) {
-  if (defect != Defect::kRayOffset1e3) return point;
+  if (defect != Defect::kRayOffset1e4) return point;
   return point + (dot(normal, direction) >= 0 ? normal : -normal) * kDefectRayOffset;
 }
 

@@ -177,7 +177,7 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     s.wi_world = to_light / std::sqrt(distance_squared);
     s.delta = true;
     s.radiance = point.intensity / distance_squared;
-    s.shadow_origin = ray_origin(ctx.point, ctx.normal, s.wi_world, defect);  // DEFECT(ray_offset_1e3) inside
+    s.shadow_origin = ray_origin(ctx.point, ctx.normal, s.wi_world, defect);  // DEFECT(ray_offset_1e4) inside
     const Vec3 segment = point.position - s.shadow_origin;
     s.shadow_t_max = length(segment);
     if (!(s.shadow_t_max > 0)) return std::nullopt;
@@ -204,7 +204,7 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     }
     s.pdf_solid_angle = pmf * environment_pdf;
     s.radiance = environment_radiance(scene->scene().environment, s.wi_world);
-    s.shadow_origin = ray_origin(ctx.point, ctx.normal, s.wi_world, defect);  // DEFECT(ray_offset_1e3) inside
+    s.shadow_origin = ray_origin(ctx.point, ctx.normal, s.wi_world, defect);  // DEFECT(ray_offset_1e4) inside
     s.shadow_direction = s.wi_world;
     s.shadow_t_max = std::numeric_limits<double>::infinity();
     pdf_for_weight = pmf_in_weight * environment_pdf;
@@ -231,7 +231,7 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
       pdf_for_weight = pmf_in_weight * solid_angle_pdf_from_area(shape_area_pdf(emitter.shape), distance_squared, 1.0);
     // Shadow ray from the shading point to the light point (the intersection
     // filters keep it off both surfaces).
-    s.shadow_origin = ray_origin(ctx.point, ctx.normal, s.wi_world, defect);  // DEFECT(ray_offset_1e3) inside
+    s.shadow_origin = ray_origin(ctx.point, ctx.normal, s.wi_world, defect);  // DEFECT(ray_offset_1e4) inside
     const Vec3 segment = q->point - s.shadow_origin;
     s.shadow_t_max = length(segment);
     s.shadow_direction = segment / s.shadow_t_max;

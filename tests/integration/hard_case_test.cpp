@@ -57,10 +57,10 @@ INSTANTIATE_TEST_SUITE_P(
                     Defect::kBackFaceEmits},
         HardControl{"BackFaceEmitsCosine", "back_facing_emitters.json", Strategy::kCosineHemisphere,
                     Defect::kBackFaceEmits},
-        // Shadow rays passing over occluders below 1e-3, and continuation rays over near lights.
+        // Shadow rays passing over occluders below 1e-4, and continuation rays over near lights.
         HardControl{"RayOffsetLightSolidAngle", "near_contact.json", Strategy::kLightSolidAngle,
-                    Defect::kRayOffset1e3},
-        HardControl{"RayOffsetCosine", "near_contact.json", Strategy::kCosineHemisphere, Defect::kRayOffset1e3},
+                    Defect::kRayOffset1e4},
+        HardControl{"RayOffsetCosine", "near_contact.json", Strategy::kCosineHemisphere, Defect::kRayOffset1e4},
         // Area sampling of a disk and a rectangle seen within ~3° of edge-on.
         HardControl{"GrazingEmitterCosineLightArea", "grazing_emitters.json", Strategy::kLightArea,
                     Defect::kGrazingEmitterCosine},

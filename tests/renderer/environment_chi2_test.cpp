@@ -202,7 +202,9 @@ TEST_P(EnvironmentSamplerChi2, MeanInversePdfIsSupportSolidAngle) {
   const double critical = stats::normal_upper_quantile(alpha / 2);
   std::printf("%-10s mean 1/pdf %.6f support %.6f standard error %.3g\n", GetParam().name.c_str(), mean, support,
               standard_error);
-  if (standard_error <= 1e-12 * support) EXPECT_NEAR(mean, support, 1e-12 * support);
+  if (standard_error <= 1e-12 * support) {
+    EXPECT_NEAR(mean, support, 1e-12 * support);
+  }
   else EXPECT_LT(std::fabs(mean - support) / standard_error, critical);
 }
 

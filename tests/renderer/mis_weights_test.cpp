@@ -40,8 +40,12 @@ TEST_P(MisWeightsSum, SumToOneWhereEitherDensityIsPositive) {
         continue;
       }
       EXPECT_NEAR(w.w_bsdf + w.w_light, 1.0, kSumTolerance) << "p_bsdf " << p_bsdf << " p_light " << p_light;
-      if (p_light == 0) EXPECT_EQ(w.w_bsdf, 1.0);
-      if (p_bsdf == 0) EXPECT_EQ(w.w_light, 1.0);
+      if (p_light == 0) {
+        EXPECT_EQ(w.w_bsdf, 1.0);
+      }
+      if (p_bsdf == 0) {
+        EXPECT_EQ(w.w_light, 1.0);
+      }
     }
 }
 

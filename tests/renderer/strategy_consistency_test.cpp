@@ -208,7 +208,9 @@ TEST_P(StrategyConsistency, WrongPdfIsDetected) {
   bool has_solid_angle_emitter = false;
   for (const Object& o : w.scene.objects)
     has_solid_angle_emitter = has_solid_angle_emitter || (o.is_emitter() && !std::holds_alternative<Disk>(o.shape));
-  if (has_solid_angle_emitter) EXPECT_GT(light_mismatches, light_checked / 10);
+  if (has_solid_angle_emitter) {
+    EXPECT_GT(light_mismatches, light_checked / 10);
+  }
   else EXPECT_EQ(light_mismatches, 0);
 }
 
