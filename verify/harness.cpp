@@ -286,9 +286,7 @@ std::string verdict_explanation(VerdictKind kind) {
   return "";
 }
 
-namespace {
-
-const char* verdict_column(VerdictKind kind) {
+const char* verdict_label(VerdictKind kind) {
   switch (kind) {
     case VerdictKind::kPass: return "pass";
     case VerdictKind::kBiased: return "FAIL biased";
@@ -297,25 +295,33 @@ const char* verdict_column(VerdictKind kind) {
   return "";
 }
 
-std::string case_label(const Verdict& v) {
-  std::string label = v.scene + " " + v.strategy;
-  if (v.defect != "none") label += "+" + v.defect;
-  return label;
+std::string strategy_label(const Verdict& v) { return v.defect == "none" ? v.strategy : v.strategy + "+" + v.defect; }
+
+std::string variance_detect_cell(const Verdict& v) {
+  if (!v.variance_tested) return "-";
+  return std::isfinite(v.variance_detectable_rel_error) ? fmt::format("{:.3g}%", 100 * v.variance_detectable_rel_error)
+                                                         : std::string("exact");
 }
 
-// "a 1.2%, b 0.9%, …": the `count` cases with the largest `detect`. Cases
-// where it is not finite are left out: an exact (zero-variance) case is
-// tested for exact agreement, where no relative error is quoted.
-std::string weakest(const std::vector<Verdict>& verdicts, double Verdict::*detect, bool (*applies)(const Verdict&),
-                    size_t count) {
+std::vector<const Verdict*> weakest_cases(const std::vector<Verdict>& verdicts, double Verdict::*detect,
+                                          bool (*applies)(const Verdict&), size_t count) {
   std::vector<const Verdict*> cases;
   for (const Verdict& v : verdicts)
     if (applies(v) && std::isfinite(v.*detect)) cases.push_back(&v);
   std::stable_sort(cases.begin(), cases.end(),
                    [&](const Verdict* a, const Verdict* b) { return a->*detect > b->*detect; });
+  cases.resize(std::min(count, cases.size()));
+  return cases;
+}
+
+namespace {
+
+// "a 1.2%, b 0.9%, …", or "none".
+std::string weakest(const std::vector<Verdict>& verdicts, double Verdict::*detect, bool (*applies)(const Verdict&),
+                    size_t count) {
   std::string out;
-  for (size_t i = 0; i < std::min(count, cases.size()); ++i)
-    out += fmt::format("{}{} {:.3g}%", i ? ", " : "", case_label(*cases[i]), 100 * (cases[i]->*detect));
+  for (const Verdict* v : weakest_cases(verdicts, detect, applies, count))
+    out += fmt::format("{}{} {} {:.3g}%", out.empty() ? "" : ", ", v->scene, strategy_label(*v), 100 * (v->*detect));
   return out.empty() ? "none" : out;
 }
 
@@ -330,20 +336,15 @@ std::string format_table(const std::vector<Verdict>& verdicts, double family_alp
                      "scene", "strategy", "spp", "mean", "reference", "z", "z crit", "px fail", "px skip", "rel RMSE",
                      "detect", "px detect", "var detect", "time s", "Msamples/s", "verdict");
   for (const Verdict& v : verdicts) {
-    std::string strategy = v.strategy;
-    if (v.defect != "none") strategy += "+" + v.defect;
+    const std::string strategy = strategy_label(v);
     const VerdictKind kind = verdict_kind(v);
-    // "exact": a zero predicted variance, tested for exact agreement.
-    const std::string variance_detect =
-        !v.variance_tested ? std::string("-")
-        : std::isfinite(v.variance_detectable_rel_error) ? fmt::format("{:.3g}%", 100 * v.variance_detectable_rel_error)
-                                                         : std::string("exact");
+    const std::string variance_detect = variance_detect_cell(v);
     out += fmt::format("{:<22} {:<24} {:>6} {:>10.6g} {:>10.6g} {:>7.3f} {:>6.2f} {:>4}/{:<4} {:>7} {:>9.3g} {:>8.3g}% {:>8.3g}% {:>10} {:>7.3f} {:>10.3g}  {}\n",
                        v.scene, strategy, v.spp, v.image_mean, v.reference_mean, v.z, v.threshold,
                        v.pixel_failures, v.pixels, v.pixels_untested,
                        v.reference_mean > 0 ? v.rmse / v.reference_mean : v.rmse, 100 * v.detectable_rel_bias,
                        100 * v.median_pixel_detectable_rel_bias, variance_detect, v.seconds,
-                       v.samples_per_second / 1e6, verdict_column(kind));
+                       v.samples_per_second / 1e6, verdict_label(kind));
     if (v.variance_tested)
       out += fmt::format("    variance: measured {:.6g}, predicted {:.6g} (mean per pixel), z {:.3f}, {} pixel outliers (not in verdict), "
                          "detectable {:.3g}%\n",

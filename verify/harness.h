@@ -100,6 +100,21 @@ VerdictKind verdict_kind(const Verdict& v);
 // model (not the estimator it claims to be)".
 std::string verdict_explanation(VerdictKind kind);
 
+// The verdict table's cells that its JSON and HTML twins (verdict_export.h)
+// print too, so the three cannot drift apart:
+// the verdict column: "pass", "FAIL biased" or "FAIL variance";
+const char* verdict_label(VerdictKind kind);
+// the strategy column: the strategy, with "+defect" when one is injected;
+std::string strategy_label(const Verdict& v);
+// the "var detect" column: "-" when not tested, "exact" for a zero predicted
+// variance (tested for exact agreement), else the detectable error in %;
+std::string variance_detect_cell(const Verdict& v);
+// the "weakest" lines: the `count` verdicts with the largest finite `detect`
+// among those `applies` selects, largest first (an exact case, tested for
+// exact agreement, quotes no relative error and is left out).
+std::vector<const Verdict*> weakest_cases(const std::vector<Verdict>& verdicts, double Verdict::*detect,
+                                          bool (*applies)(const Verdict&), size_t count);
+
 // Runs one case. `per_case_alpha` is the family-wise level of this case's
 // P + 1 mean tests (P pixel tests and the image-mean test) and, where the
 // strategy's variance is modelled, its aggregate variance test.

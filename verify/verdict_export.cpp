@@ -15,20 +15,7 @@ namespace furnace::verify {
 
 namespace {
 
-const char* verdict_text(VerdictKind kind) {
-  switch (kind) {
-    case VerdictKind::kPass: return "pass";
-    case VerdictKind::kBiased: return "FAIL biased";
-    case VerdictKind::kVarianceMismatch: return "FAIL variance";
-  }
-  return "";
-}
-
-std::string strategy_cell(const Verdict& v) {
-  return v.defect == "none" ? v.strategy : v.strategy + "+" + v.defect;
-}
-
-std::string case_label(const Verdict& v) { return v.scene + " " + strategy_cell(v); }
+std::string case_label(const Verdict& v) { return v.scene + " " + strategy_label(v); }
 
 // nlohmann writes a non-finite double as null; say so explicitly.
 nlohmann::ordered_json number(double x) {
@@ -61,13 +48,9 @@ bool variance_case(const Verdict& v) { return v.variance_tested; }
 }  // namespace
 
 std::vector<std::pair<std::string, std::string>> verdict_cells(const Verdict& v) {
-  const std::string variance_detect =
-      !v.variance_tested ? std::string("-")
-      : std::isfinite(v.variance_detectable_rel_error) ? fmt::format("{:.3g}%", 100 * v.variance_detectable_rel_error)
-                                                       : std::string("exact");
   std::vector<std::pair<std::string, std::string>> cells = {
       {"scene", v.scene},
-      {"strategy", strategy_cell(v)},
+      {"strategy", strategy_label(v)},
       {"spp", fmt::format("{}", v.spp)},
       {"mean", fmt::format("{:.6g}", v.image_mean)},
       {"reference", fmt::format("{:.6g}", v.reference_mean)},
@@ -78,27 +61,16 @@ std::vector<std::pair<std::string, std::string>> verdict_cells(const Verdict& v)
       {"rel RMSE", fmt::format("{:.3g}", v.reference_mean > 0 ? v.rmse / v.reference_mean : v.rmse)},
       {"detect", fmt::format("{:.3g}%", 100 * v.detectable_rel_bias)},
       {"px detect", fmt::format("{:.3g}%", 100 * v.median_pixel_detectable_rel_bias)},
-      {"var detect", variance_detect},
+      {"var detect", variance_detect_cell(v)},
       {"var measured", v.variance_tested ? fmt::format("{:.6g}", v.measured_variance) : "-"},
       {"var predicted", v.variance_tested ? fmt::format("{:.6g}", v.predicted_variance) : "-"},
       {"var z", v.variance_tested ? fmt::format("{:.3f}", v.variance_z) : "-"},
       {"var outliers", v.variance_tested ? fmt::format("{}", v.variance_pixel_failures) : "-"},
       {"time s", fmt::format("{:.3f}", v.seconds)},
       {"Msamples/s", fmt::format("{:.3g}", v.samples_per_second / 1e6)},
-      {"verdict", verdict_text(verdict_kind(v))},
+      {"verdict", verdict_label(verdict_kind(v))},
   };
   return cells;
-}
-
-std::vector<const Verdict*> weakest_cases(const std::vector<Verdict>& verdicts, double Verdict::*detect,
-                                          bool (*applies)(const Verdict&), size_t count) {
-  std::vector<const Verdict*> cases;
-  for (const Verdict& v : verdicts)
-    if (applies(v) && std::isfinite(v.*detect)) cases.push_back(&v);
-  std::stable_sort(cases.begin(), cases.end(),
-                   [&](const Verdict* a, const Verdict* b) { return a->*detect > b->*detect; });
-  cases.resize(std::min(count, cases.size()));
-  return cases;
 }
 
 std::string verdicts_json(const std::vector<Verdict>& verdicts, double family_alpha) {
@@ -147,7 +119,7 @@ std::string verdicts_json(const std::vector<Verdict>& verdicts, double family_al
         {"samples_per_second", number(v.samples_per_second)},
         {"mean_pass", v.mean_pass},
         {"pass", v.pass},
-        {"verdict", verdict_text(kind)},
+        {"verdict", verdict_label(kind)},
         {"explanation", verdict_explanation(kind)},
         {"table", table},
     });

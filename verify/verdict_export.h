@@ -24,11 +24,6 @@ namespace furnace::verify {
 // (format_table) formats them, without padding.
 std::vector<std::pair<std::string, std::string>> verdict_cells(const Verdict& v);
 
-// The `count` cases with the largest `detect` among those `applies` selects,
-// finite values only, largest first (the table's "weakest" lines).
-std::vector<const Verdict*> weakest_cases(const std::vector<Verdict>& verdicts, double Verdict::*detect,
-                                          bool (*applies)(const Verdict&), size_t count);
-
 std::string verdicts_json(const std::vector<Verdict>& verdicts, double family_alpha);
 std::string verdicts_html(const std::vector<Verdict>& verdicts, double family_alpha, const std::string& command_line);
 
