@@ -67,6 +67,42 @@ int run_render(const std::string& scene_path, const std::string& strategy, const
   return cli::kExitPass;
 }
 
+// The built-in suite's cases whose strategy is among `strategies` (all of
+// them when none is named); an unknown name is refused.
+std::vector<verify::Case> suite_cases(const std::vector<verify::Case>& suite, const std::vector<std::string>& strategies) {
+  for (const std::string& name : strategies) parse_strategy(name);
+  std::vector<verify::Case> cases;
+  for (const verify::Case& c : suite)
+    if (strategies.empty() ||
+        std::find(strategies.begin(), strategies.end(), strategy_name(c.options.strategy)) != strategies.end())
+      cases.push_back(c);
+  return cases;
+}
+
+// The cases of --scene files: each file with the named strategies, or by
+// default every direct strategy that can see its lights (none that misses its
+// point lights). Each file is loaded first, so a bad one fails before any
+// rendering. Options other than the strategy are the caller's to set.
+std::vector<verify::Case> scene_file_cases(const std::vector<std::string>& scenes,
+                                           std::vector<std::string> strategies) {
+  const bool all_direct = strategies.empty();
+  if (all_direct)
+    for (Strategy s : direct_strategies()) strategies.push_back(strategy_name(s));
+  std::vector<verify::Case> cases;
+  for (const std::string& path : scenes) {
+    const Scene scene = load_scene(path);
+    for (const std::string& name : strategies) {
+      const Strategy strategy = parse_strategy(name);
+      if (all_direct && !scene.point_lights.empty() && !strategy_sees_delta_lights(strategy)) continue;
+      verify::Case c;
+      c.scene_path = path;
+      c.options.strategy = strategy;
+      cases.push_back(c);
+    }
+  }
+  return cases;
+}
+
 // Where `verify` writes its JSON and HTML twins of the table (empty: not asked for).
 struct VerifyOutputs {
   std::string json_path, html_dir, command_line;
@@ -80,36 +116,20 @@ int run_verify(std::vector<std::string> scenes, std::vector<std::string> strateg
   const LightSelection selection =
       light_selection.empty() ? LightSelection::kUniform : parse_light_selection(light_selection);
   std::vector<verify::Case> cases;
-  if (scenes.empty()) {
-    for (verify::Case c : verify::default_suite(spp, seed, threads)) {
+  if (scenes.empty())
+    for (verify::Case c : suite_cases(verify::default_suite(spp, seed, threads), strategies)) {
       c.options.defect = parse_defect(defect);
       if (!light_selection.empty()) c.options.light_selection = selection;
-      const bool selected = strategies.empty() ||
-                            std::find(strategies.begin(), strategies.end(), strategy_name(c.options.strategy)) !=
-                                strategies.end();
-      if (selected) cases.push_back(c);
-    }
-    for (const std::string& name : strategies) parse_strategy(name);  // reject unknown names
-  }
-  const bool all_direct = strategies.empty();
-  if (!scenes.empty() && strategies.empty())
-    for (Strategy s : direct_strategies()) strategies.push_back(strategy_name(s));
-  for (const std::string& path : scenes) {
-    const Scene scene = load_scene(path);  // fail fast on a bad file, before any rendering
-    for (const std::string& name : strategies) {
-      // By default, skip the strategies that cannot see the scene's point lights.
-      if (all_direct && !scene.point_lights.empty() && !strategy_sees_delta_lights(parse_strategy(name))) continue;
-      verify::Case c;
-      c.options.light_selection = selection;
-      c.scene_path = path;
-      c.options.strategy = parse_strategy(name);
-      c.options.defect = parse_defect(defect);
-      c.options.spp = spp;
-      c.options.seed = seed;
-      c.options.threads = threads;
-      c.options.max_depth = max_depth;
       cases.push_back(c);
     }
+  for (verify::Case c : scene_file_cases(scenes, strategies)) {
+    c.options.light_selection = selection;
+    c.options.defect = parse_defect(defect);
+    c.options.spp = spp;
+    c.options.seed = seed;
+    c.options.threads = threads;
+    c.options.max_depth = max_depth;
+    cases.push_back(c);
   }
   // Šidák: the cases share the family-wise α equally.
   if (cases.empty()) throw Error("no verification case matches the given --scene and --strategy options.");
@@ -135,33 +155,14 @@ int run_verify(std::vector<std::string> scenes, std::vector<std::string> strateg
 
 // The report's cases: the built-in suite, or each --scene file with the
 // chosen strategies (default: every direct strategy that sees its lights).
-std::vector<verify::Case> report_cases(const std::vector<std::string>& scenes, std::vector<std::string> strategies,
+std::vector<verify::Case> report_cases(const std::vector<std::string>& scenes, const std::vector<std::string>& strategies,
                                        int max_spp, uint64_t seed, int threads) {
-  for (const std::string& name : strategies) parse_strategy(name);
-  std::vector<verify::Case> cases;
-  if (scenes.empty()) {
-    for (const verify::Case& c : verify::default_suite(max_spp, seed, threads)) {
-      const bool selected = strategies.empty() || std::find(strategies.begin(), strategies.end(),
-                                                            strategy_name(c.options.strategy)) != strategies.end();
-      if (selected) cases.push_back(c);
-    }
-    return cases;
-  }
-  const bool all_direct = strategies.empty();
-  if (all_direct)
-    for (Strategy s : direct_strategies()) strategies.push_back(strategy_name(s));
-  for (const std::string& path : scenes) {
-    const Scene scene = load_scene(path);  // fail fast on a bad file, before any rendering
-    for (const std::string& name : strategies) {
-      if (all_direct && !scene.point_lights.empty() && !strategy_sees_delta_lights(parse_strategy(name))) continue;
-      verify::Case c;
-      c.scene_path = path;
-      c.options.strategy = parse_strategy(name);
-      c.options.spp = max_spp;
-      c.options.seed = seed;
-      c.options.threads = threads;
-      cases.push_back(c);
-    }
+  if (scenes.empty()) return suite_cases(verify::default_suite(max_spp, seed, threads), strategies);
+  std::vector<verify::Case> cases = scene_file_cases(scenes, strategies);
+  for (verify::Case& c : cases) {
+    c.options.spp = max_spp;
+    c.options.seed = seed;
+    c.options.threads = threads;
   }
   return cases;
 }

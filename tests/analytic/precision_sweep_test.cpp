@@ -101,16 +101,24 @@ Big plane_region_irradiance(const Vec3& n, const Big& v0, const Big& v1, const s
   return sum;
 }
 
-void print_worst(const char* what, double worst, const std::string& where) {
-  std::printf("[ precision ] %-34s worst relative error %.3g (%.1f eps) at %s\n", what, worst, worst / kEps, where.c_str());
-}
+// The largest relative error of a sweep and where it occurred.
+struct WorstError {
+  double error = 0;
+  std::string where = "nowhere";
+  void note(double err, const std::string& at) {
+    if (err > error) error = err, where = at;
+  }
+  void print(const char* what) const {
+    std::printf("[ precision ] %-34s worst relative error %.3g (%.1f eps) at %s\n", what, error, error / kEps,
+                where.c_str());
+  }
+};
 
 const std::vector<double> kTilts{0, 30, 60, 85, 89, 89.9, 89.98, 89.99, 89.999};
 
 // A disk light of radius R, centre (0, 0, 1), facing down; R/h = R.
 TEST(PrecisionSweep, TinyDiskTimesTilt) {
-  double worst = 0;
-  std::string where;
+  WorstError worst;
   for (double R : {1e3, 10.0, 1.0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-6}) {
     const Scene scene = scene_with({{"light", Disk{{0, 0, 1}, {0, 0, -1}, R}, {}, 1.0}});
     for (double tilt : kTilts) {
@@ -124,16 +132,15 @@ TEST(PrecisionSweep, TinyDiskTimesTilt) {
       const double e = irradiance(scene, {0, 0, 0}, n, size_t(0));
       const double err = relative_error(e, expected);
       EXPECT_LE(err, kSweepTolerance) << "R/h " << R << " tilt " << tilt;
-      if (err > worst) worst = err, where = "R/h " + std::to_string(R) + ", tilt " + std::to_string(tilt);
+      worst.note(err, "R/h " + std::to_string(R) + ", tilt " + std::to_string(tilt));
     }
   }
-  print_worst("tiny disk x tilt", worst, where);
+  worst.print("tiny disk x tilt");
 }
 
 // A square light of side s centred over the receiver at height 1, facing down.
 TEST(PrecisionSweep, TinyRectangleTimesTilt) {
-  double worst = 0;
-  std::string where;
+  WorstError worst;
   for (double s : {1e3, 10.0, 1.0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-6}) {
     const Scene scene = scene_with({{"light", Rectangle{{-s / 2, -s / 2, 1}, {0, s, 0}, {s, 0, 0}}, {}, 1.0}});
     for (double tilt : kTilts) {
@@ -145,17 +152,16 @@ TEST(PrecisionSweep, TinyRectangleTimesTilt) {
       const double e = irradiance(scene, {0, 0, 0}, n, size_t(0));
       const double err = relative_error(e, expected);
       EXPECT_LE(err, kSweepTolerance) << "side/distance " << s << " tilt " << tilt;
-      if (err > worst) worst = err, where = "side " + std::to_string(s) + ", tilt " + std::to_string(tilt);
+      worst.note(err, "side " + std::to_string(s) + ", tilt " + std::to_string(tilt));
     }
   }
-  print_worst("tiny rectangle x tilt", worst, where);
+  worst.print("tiny rectangle x tilt");
 }
 
 // A black disk of radius 1 parallel to the receiver at height h hides all of
 // the sky but a sliver: E = L·(π − π F), F by Howell's textbook formula in 50 digits.
 TEST(PrecisionSweep, NearTotalSkyBlocking) {
-  double worst = 0;
-  std::string where;
+  WorstError worst;
   for (double h : {1e-2, 1e-3, 1e-4, 1e-5, 1e-6})
     for (double d : {0.0, 0.5, 0.99}) {
       const Scene scene = scene_with({{"blocker", Disk{{d, 0, h}, {0, 0, 1}, 1.0}, {}, 0}}, 1.0);
@@ -165,9 +171,9 @@ TEST(PrecisionSweep, NearTotalSkyBlocking) {
       const double e = irradiance(scene, {0, 0, 0}, {0, 0, 1}, size_t(0));
       const double err = relative_error(e, expected);
       EXPECT_LE(err, kSweepTolerance) << "h " << h << " d " << d;
-      if (err > worst) worst = err, where = "h " + std::to_string(h) + ", d " + std::to_string(d);
+      worst.note(err, "h " + std::to_string(h) + ", d " + std::to_string(d));
     }
-  print_worst("near-total sky blocking", worst, where);
+  worst.print("near-total sky blocking");
 }
 
 // A tilted black disk over the receiver: E = L·(π − Ω⊥), Ω⊥ by a polar
@@ -175,8 +181,7 @@ TEST(PrecisionSweep, NearTotalSkyBlocking) {
 // outside); and the uniform-hemisphere second moment 2π·L²·∫_open cos²θ dω =
 // 2π·L²·(2π/3 − ∫_disk cos²θ dω) the same way.
 TEST(PrecisionSweep, TiltedDiskBlockingTheSky) {
-  double worst = 0, worst_moment = 0;
-  std::string where;
+  WorstError worst, worst_moment;
   for (double tilt : {0.3, 0.9, 1.3})
     for (double height : {0.5, 0.05}) {
       const Vec3 m{0, std::sin(tilt), std::cos(tilt)};
@@ -200,7 +205,7 @@ TEST(PrecisionSweep, TiltedDiskBlockingTheSky) {
       const double e = irradiance(scene, {0, 0, 0}, {0, 0, 1}, size_t(0));
       const double err = relative_error(e, expected);
       EXPECT_LE(err, kSweepTolerance) << "tilt " << tilt << " height " << height;
-      if (err > worst) worst = err, where = "tilt " + std::to_string(tilt) + ", height " + std::to_string(height);
+      worst.note(err, "tilt " + std::to_string(tilt) + ", height " + std::to_string(height));
       // cos²θ dω = z²·|m·x|/r⁵ dA: the radial integrand times z/r.
       auto angular2 = [&](const Big& phi) {
         const Big c = cos(phi), s = sin(phi);
@@ -219,18 +224,17 @@ TEST(PrecisionSweep, TiltedDiskBlockingTheSky) {
       const double m2 = second_moment(Strategy::kUniformHemisphere, scene, {0, 0, 0}, {0, 0, 1}, size_t(0));
       const double err2 = relative_error(m2, moment);
       EXPECT_LE(err2, kSweepTolerance) << "uniform-hemisphere moment, tilt " << tilt << " height " << height;
-      worst_moment = std::fmax(worst_moment, err2);
+      worst_moment.note(err2, "the grid");
     }
-  print_worst("tilted disk blocking the sky", worst, where);
-  print_worst("  its uniform-hemisphere moment", worst_moment, "the grid");
+  worst.print("tilted disk blocking the sky");
+  worst_moment.print("  its uniform-hemisphere moment");
 }
 
 // A disk light (radius 0.5 at height 1) behind a parallel disk occluder of
 // radius 0.3·h at height h ≪ 1 right over the receiver: an annulus 0.3 < s < 0.5
 // stays visible, E/L = F(0.5) − F(0.3) (Howell, 50 digits).
 TEST(PrecisionSweep, NearContactOccluder) {
-  double worst = 0;
-  std::string where;
+  WorstError worst;
   auto howell = [](const Big& R) { return boost::math::constants::pi<Big>() * R * R / (1 + R * R); };
   for (double h : {1e-3, 1e-4, 1e-5, 1e-6}) {
     const Scene scene = scene_with({{"light", Disk{{0, 0, 1}, {0, 0, -1}, 0.5}, {}, 1.0},
@@ -239,17 +243,16 @@ TEST(PrecisionSweep, NearContactOccluder) {
     const double e = irradiance(scene, {0, 0, 0}, {0, 0, 1}, size_t(0));
     const double err = relative_error(e, expected);
     EXPECT_LE(err, kSweepTolerance) << "h " << h;
-    if (err > worst) worst = err, where = "h " + std::to_string(h);
+    worst.note(err, "h " + std::to_string(h));
   }
-  print_worst("near-contact occluder", worst, where);
+  worst.print("near-contact occluder");
 }
 
 // The light-area kernel ∫ (cos θ cos θ'/r²)² dA = ∫ h⁴/(u² + v² + h²)⁴ du dv of a
 // rectangle [x0, x1] × [y0, y1] at height h over the receiver: inner integral
 // in closed form, outer adaptive, both in 50 digits.
 TEST(PrecisionSweep, LightAreaKernelOfNearRectangle) {
-  double worst = 0;
-  std::string where;
+  WorstError worst;
   struct Placement {
     const char* name;
     double x0, x1, y0, y1;
@@ -272,9 +275,9 @@ TEST(PrecisionSweep, LightAreaKernelOfNearRectangle) {
       const double value = polygon_area_kernel(vertices, {0, 0, 1});
       const double err = relative_error(value, expected);
       EXPECT_LE(err, kSweepTolerance) << "h " << h << " " << pl.name;
-      if (err > worst) worst = err, where = "h " + std::to_string(h) + ", " + pl.name;
+      worst.note(err, "h " + std::to_string(h) + ", " + pl.name);
     }
-  print_worst("light-area kernel, near rectangle", worst, where);
+  worst.print("light-area kernel, near rectangle");
 }
 
 // Multi-sample MIS (one BSDF and one solid-angle light sample) under a unit
@@ -285,8 +288,7 @@ TEST(PrecisionSweep, LightAreaKernelOfNearRectangle) {
 // ρ = ½/cos φ, and the polar angle t about the normal in [0, atan(ρ/h)],
 // dω = sin t dt dφ, cos θ = cos t.
 TEST(PrecisionSweep, MisMomentsOfNearSquare) {
-  double worst = 0;
-  std::string where;
+  WorstError worst;
   for (int beta : {1, 2})
     for (double h : {1e-2, 1e-4, 1e-6}) {
       const Scene scene = scene_with({{"light", Rectangle{{-0.5, -0.5, h}, {0, 1, 0}, {1, 0, 0}}, {}, 1.0}});
@@ -317,9 +319,9 @@ TEST(PrecisionSweep, MisMomentsOfNearSquare) {
       const double m2 = second_moment(strategy, scene, {0, 0, 0}, {0, 0, 1}, size_t(0));
       const double err = relative_error(m2, expected);
       EXPECT_LE(err, kSweepTolerance) << "beta " << beta << " h " << h;
-      if (err > worst) worst = err, where = "beta " + std::to_string(beta) + ", h " + std::to_string(h);
+      worst.note(err, "beta " + std::to_string(beta) + ", h " + std::to_string(h));
     }
-  print_worst("MIS moments, near square", worst, where);
+  worst.print("MIS moments, near square");
 }
 
 }  // namespace
