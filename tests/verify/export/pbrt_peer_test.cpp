@@ -3,8 +3,8 @@
 // (exit 0); deliberately wrong exports rendered the same way must fail it
 // (exit 1), proving the check can tell. The scenes too costly for the peer
 // label's budget are tested by a second build of this file (label slow).
-// Needs FURNACE_PBRT to name a pbrt-v4 binary; without it every test reports
-// "skipped: no pbrt-v4 (set FURNACE_PBRT)" and none fails.
+// Finds pbrt-v4 as pbrt_binary() says; without one every test reports
+// "skipped: no pbrt-v4 (set FURNACE_PBRT; tried …)" and none fails.
 //
 // Each test prints one line: scene, K, spp, check's exit code, the worst
 // per-pixel |t| and the image-mean t, the image-mean bias the check detects
@@ -56,10 +56,31 @@ constexpr int kFirstSeed = 1;
 // light reaches the eye after at most one bounce and the two agree.
 constexpr int kPbrtThreads = 2;
 
+bool is_executable_file(const fs::path& p) { return fs::is_regular_file(p) && ::access(p.c_str(), X_OK) == 0; }
+
+// The pbrt-v4 binary: FURNACE_PBRT when set (used as given, so a wrong path
+// fails loudly rather than skipping), else the shared peer build next to the
+// repository (../shared/peers/pbrt-v4/pbrt), else `pbrt` on PATH.
 std::optional<fs::path> pbrt_binary() {
-  const char* path = std::getenv("FURNACE_PBRT");
-  if (!path || !*path) return std::nullopt;
-  return fs::path(path);
+  const char* forced = std::getenv("FURNACE_PBRT");
+  if (forced && *forced) return fs::path(forced);
+  const fs::path shared = fs::path(FURNACE_SCENE_DIR).parent_path().parent_path() / "shared/peers/pbrt-v4/pbrt";
+  if (is_executable_file(shared)) return shared;
+  const char* path = std::getenv("PATH");
+  std::string dirs = path ? path : "";
+  for (size_t start = 0; start <= dirs.size();) {
+    const size_t end = std::min(dirs.find(':', start), dirs.size());
+    const fs::path candidate = fs::path(dirs.substr(start, end - start)) / "pbrt";
+    if (end > start && is_executable_file(candidate)) return candidate;
+    start = end + 1;
+  }
+  return std::nullopt;
+}
+
+// The skip message: what was looked for, so a user can tell why.
+std::string no_pbrt_message() {
+  return fmt::format("skipped: no pbrt-v4 (set FURNACE_PBRT; tried {} and `pbrt` on PATH)",
+                     (fs::path(FURNACE_SCENE_DIR).parent_path().parent_path() / "shared/peers/pbrt-v4/pbrt").string());
 }
 
 using testing_support::CommandResult;
@@ -201,7 +222,7 @@ fs::path scene_file(const std::string& name) { return fs::path(FURNACE_SCENE_DIR
 class PbrtPeerScene : public PbrtPeer, public testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
-    if (!set_up(camel_case(GetParam()))) GTEST_SKIP() << "skipped: no pbrt-v4 (set FURNACE_PBRT)";
+    if (!set_up(camel_case(GetParam()))) GTEST_SKIP() << no_pbrt_message();
   }
   void TearDown() override { tear_down(!HasFailure()); }
 };
@@ -276,7 +297,7 @@ std::vector<Control> controls() {
 class PbrtPeerControl : public PbrtPeer, public testing::TestWithParam<Control> {
  protected:
   void SetUp() override {
-    if (!set_up(GetParam().name)) GTEST_SKIP() << "skipped: no pbrt-v4 (set FURNACE_PBRT)";
+    if (!set_up(GetParam().name)) GTEST_SKIP() << no_pbrt_message();
   }
   void TearDown() override { tear_down(!HasFailure()); }
 };
@@ -330,7 +351,7 @@ Scene split_slivers(const Scene& scene, double max_aspect) {
 class PbrtPeerDiagnosis : public PbrtPeer, public testing::Test {
  protected:
   void SetUp() override {
-    if (!set_up("Diagnosis")) GTEST_SKIP() << "skipped: no pbrt-v4 (set FURNACE_PBRT)";
+    if (!set_up("Diagnosis")) GTEST_SKIP() << no_pbrt_message();
   }
   void TearDown() override { tear_down(!HasFailure()); }
 };
