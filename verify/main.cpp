@@ -23,6 +23,7 @@
 #include "verify/check.h"
 #include "verify/check_command.h"
 #include "verify/cli_options.h"
+#include "verify/export/cycles.h"
 #include "verify/export/pbrt_v4.h"
 #include "verify/harness.h"
 #include "verify/progress.h"
@@ -472,8 +473,9 @@ int main(int argc, char** argv) {
   auto* export_cmd = app.add_subcommand("export", "Write a scene in another renderer's format (refused, exit 2, "
                                         "when that format cannot express it exactly)");
   export_cmd->add_option("--scene", e_scene, "Scene file (JSON)")->required();
-  export_cmd->add_option("--format", e_format, "Target format")->required()->check(CLI::IsMember({"pbrt-v4"}));
-  export_cmd->add_option("--spp", e_options.spp, "Samples per pixel")->capture_default_str()->check(cli::integer_in(1, kMaxSpp));
+  export_cmd->add_option("--format", e_format, "Target format")->required()->check(CLI::IsMember({"pbrt-v4", "cycles"}));
+  auto* e_spp_opt = export_cmd->add_option("--spp", e_options.spp, "Samples per pixel (pbrt-v4 default 256, cycles "
+                                           "default 128)")->check(cli::integer_in(1, kMaxSpp));
   auto* e_seed_opt = export_cmd->add_option("--seed", e_seed, "Seed written into the file (default: none, the "
                                             "renderer's own --seed chooses)")->check(cli::seed_value());
   add_max_depth_option(export_cmd, e_options.max_segments, "Longest path in segments, the camera's included, or "
@@ -522,6 +524,17 @@ int main(int argc, char** argv) {
     }
     if (*export_cmd) {
       const Scene scene = load_scene(e_scene);
+      if (e_format == "cycles") {
+        if (*e_seed_opt)
+          throw Error("option --seed is not written into a Cycles script: pass it to the script (-- --seed S or "
+                      "--seeds A-B).");
+        exporter::CyclesOptions cycles_options;
+        if (*e_spp_opt) cycles_options.spp = e_options.spp;
+        cycles_options.max_segments = e_options.max_segments;
+        exporter::write_cycles(scene, cycles_options, e_output);
+        fmt::print("exported {} ({}) for {} -> {}\n", scene.name, scene.source, e_format, e_output);
+        return 0;
+      }
       if (*e_seed_opt) e_options.seed = e_seed;
       e_options.image_filename = std::filesystem::path(e_output).stem().string() + ".exr";
       exporter::write_pbrt_v4(scene, e_options, e_output);
