@@ -480,6 +480,11 @@ int main(int argc, char** argv) {
                                             "renderer's own --seed chooses)")->check(cli::seed_value());
   add_max_depth_option(export_cmd, e_options.max_segments, "Longest path in segments, the camera's included, or "
                        "'unlimited' (default unlimited); the file names the matching furnace check --max-depth");
+  exporter::CyclesOptions e_cycles;
+  export_cmd->add_option("--emitter-grid", e_cycles.emitter_grid, "cycles: cut each emitting rectangle or triangle "
+                         "into a grid of N x N cells")->capture_default_str()->check(cli::integer_in(1, 256));
+  export_cmd->add_option("--sphere-subdivisions", e_cycles.sphere_subdivisions, "cycles: icosphere level of each "
+                         "sphere (20*4^L triangles)")->capture_default_str()->check(cli::integer_in(0, 7));
   export_cmd->add_option("--output,-o", e_output, "Output file")->required()->check(cli::output_file());
   with_contract(export_cmd);
 
@@ -528,7 +533,7 @@ int main(int argc, char** argv) {
         if (*e_seed_opt)
           throw Error("option --seed is not written into a Cycles script: pass it to the script (-- --seed S or "
                       "--seeds A-B).");
-        exporter::CyclesOptions cycles_options;
+        exporter::CyclesOptions cycles_options = e_cycles;
         if (*e_spp_opt) cycles_options.spp = e_options.spp;
         cycles_options.max_segments = e_options.max_segments;
         exporter::write_cycles(scene, cycles_options, e_output);

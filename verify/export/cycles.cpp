@@ -52,6 +52,10 @@ double clip_start(const Camera& c) {
 }
 // Far enough for any scene within scene_limits (coordinates up to 1e6).
 constexpr double kClipEnd = 1e10;
+// Bounds of the tessellation options: 20·4^7 = 327 680 triangles per sphere,
+// 2·256² = 131 072 per emitting rectangle keep the script below ~20 MB.
+constexpr int kMaxSphereSubdivisions = 7;
+constexpr int kMaxEmitterGrid = 256;
 // Blackman-Harris at Blender's smallest width: samples within 0.01 px of the
 // pixel centre (Cycles widens a Box filter to 1 px whatever its width).
 constexpr const char* kFilterType = "BLACKMAN_HARRIS";
@@ -129,7 +133,7 @@ CyclesMesh disk_mesh(const Disk& d) {
 // the sphere's 4πR². Vertices lie R' − R outside the sphere; the face point
 // nearest the centre, the foot of the perpendicular (inside every face of
 // this acute mesh, checked), lies R − min_face_distance inside.
-CyclesMesh sphere_mesh(const Sphere& sp) {
+CyclesMesh sphere_mesh(const Sphere& sp, int subdivisions) {
   const double g = (1 + std::sqrt(5.0)) / 2;
   std::vector<Vec3> unit = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
                             {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
@@ -138,7 +142,7 @@ CyclesMesh sphere_mesh(const Sphere& sp) {
                                            {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
                                            {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
                                            {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (int level = 0; level < kCyclesSphereSubdivisions; ++level) {
+  for (int level = 0; level < subdivisions; ++level) {
     std::map<std::pair<int, int>, int> midpoint;
     auto middle = [&](int a, int b) {
       const auto key = std::minmax(a, b);
@@ -178,7 +182,7 @@ CyclesMesh sphere_mesh(const Sphere& sp) {
   }
   mesh.construction = fmt::format("icosahedron subdivided {} times ({} triangles, {} vertices) on the sphere of "
                                   "radius R' that gives the polyhedron the sphere's area",
-                                  kCyclesSphereSubdivisions, faces.size(), unit.size());
+                                  subdivisions, faces.size(), unit.size());
   mesh.exact_area = sp.area();
   mesh.max_distance_outside = circumradius - sp.radius;
   mesh.max_distance_inside = sp.radius - min_face_distance;
@@ -491,8 +495,8 @@ int cycles_max_bounces(int max_segments) {
   return max_segments == kUnlimitedDepth ? kCyclesMaxBounces : max_segments - 2;
 }
 
-CyclesMesh cycles_mesh(const Object& object) {
-  const int grid = object.is_emitter() ? kCyclesEmitterGrid : 1;
+CyclesMesh cycles_mesh(const Object& object, const CyclesOptions& options) {
+  const int grid = object.is_emitter() ? options.emitter_grid : 1;
   return std::visit(
       overloaded{[&](const Rectangle& r) {
                    CyclesMesh mesh = parallelogram(r.corner, r.edge_u, r.edge_v, grid);
@@ -520,8 +524,8 @@ CyclesMesh cycles_mesh(const Object& object) {
                    finish_area(mesh);
                    return mesh;
                  },
-                 [](const Sphere& s) {
-                   CyclesMesh mesh = sphere_mesh(s);
+                 [&](const Sphere& s) {
+                   CyclesMesh mesh = sphere_mesh(s, options.sphere_subdivisions);
                    finish_area(mesh);
                    return mesh;
                  }},
@@ -550,8 +554,13 @@ std::string export_cycles(const Scene& scene, const CyclesOptions& options) {
     throw Error(fmt::format("scene '{}' ({}) cannot be exported to Cycles: its pixels' width : height {} is "
                             "beyond Blender's pixel aspect range 1/{} to {}.",
                             scene.name, scene.source, pixel_ratio, kBlenderMaxPixelAspect, kBlenderMaxPixelAspect));
+  if (options.sphere_subdivisions < 0 || options.sphere_subdivisions > kMaxSphereSubdivisions)
+    throw Error(fmt::format("the sphere subdivision level must be in [0, {}], got {}.", kMaxSphereSubdivisions,
+                            options.sphere_subdivisions));
+  if (options.emitter_grid < 1 || options.emitter_grid > kMaxEmitterGrid)
+    throw Error(fmt::format("the emitter grid must be in [1, {}], got {}.", kMaxEmitterGrid, options.emitter_grid));
   std::vector<CyclesMesh> meshes;
-  for (const Object& o : scene.objects) meshes.push_back(cycles_mesh(o));
+  for (const Object& o : scene.objects) meshes.push_back(cycles_mesh(o, options));
 
   std::string text = header(scene, options, meshes);
   text += "\nSCENE = {\n";

@@ -37,18 +37,23 @@
 
 namespace furnace::exporter {
 
+// Vertices of a disk's equal-area regular polygon.
+inline constexpr int kCyclesDiskVertices = 4096;
+// Subdivision level of a sphere's icosphere: 20·4^level triangles (level 4:
+// 5120, which passes; level 6, 81 920 triangles, renders a sphere light too
+// dark: see docs/checking_cycles.md).
+inline constexpr int kCyclesSphereSubdivisions = 4;
+// An emitting rectangle is cut into grid² cells of two triangles, an
+// emitting triangle into grid² triangles (16 passes; 1, the exact two
+// triangles of a rectangle light, renders too dark).
+inline constexpr int kCyclesEmitterGrid = 16;
+
 struct CyclesOptions {
   int spp = 128;                      // scene.cycles.samples; the script's --spp overrides it
   int max_segments = kUnlimitedDepth;  // furnace's depth convention, >= 2
+  int sphere_subdivisions = kCyclesSphereSubdivisions;  // in [0, 7]
+  int emitter_grid = kCyclesEmitterGrid;                // in [1, 256]
 };
-
-// Vertices of a disk's equal-area regular polygon.
-inline constexpr int kCyclesDiskVertices = 4096;
-// Subdivision level of a sphere's icosphere: 20·4^level triangles (5120).
-inline constexpr int kCyclesSphereSubdivisions = 4;
-// An emitting rectangle is cut into kCyclesEmitterGrid² cells of two
-// triangles, an emitting triangle into kCyclesEmitterGrid² triangles.
-inline constexpr int kCyclesEmitterGrid = 16;
 // Blender's largest max_bounces; the export's "unlimited".
 inline constexpr int kCyclesMaxBounces = 1024;
 
@@ -70,7 +75,7 @@ struct CyclesMesh {
 };
 
 // The triangles Cycles renders for `object` (emitters get the grid).
-CyclesMesh cycles_mesh(const Object& object);
+CyclesMesh cycles_mesh(const Object& object, const CyclesOptions& options = {});
 
 // Empty when the export can express the scene; otherwise the reason, one
 // sentence naming the scene and the feature.
