@@ -90,6 +90,14 @@ double detectable_noncentrality(double dof, double alpha, double power) {
   }
 }
 
+bool has_few_distinct_values(std::vector<double> values) {
+  const size_t k = values.size();
+  if (k < size_t(kFewValuesMinImages)) return false;
+  std::sort(values.begin(), values.end());
+  const size_t distinct = size_t(std::unique(values.begin(), values.end()) - values.begin());
+  return distinct > 1 && distinct * kFewValuesDivisor <= k;
+}
+
 double spread_upper_bound_factor(double dof, double confidence) {
   if (!std::isfinite(dof)) return 1.0;
   const boost::math::chi_squared_distribution<double> chi2(dof);
@@ -239,7 +247,8 @@ CheckResult check_images(const std::vector<ForeignImage>& images, const std::vec
     cc.alpha = alpha_mean;
     cc.pixel_alpha = alpha_pixel;
     std::vector<double> image_means(k, 0.0), detectable, thresholds, dofs;
-    std::vector<double> means(n), variances(n), counts(n);
+    std::vector<double> means(n), variances(n), counts(n), pixel_values(k);
+    std::vector<bool> few_values(n, false);
     double sum_sq = 0, sum_variance_of_mean = 0;
     bool all_constant = true;  // every pixel without spread: a zero-variance render
     for (size_t i = 0; i < n; ++i) {
@@ -255,6 +264,8 @@ CheckResult check_images(const std::vector<ForeignImage>& images, const std::vec
         for (const ForeignImage& img : images) m2 += (img.value[c][i] - mean) * (img.value[c][i] - mean);
         counts[i] = double(k);
         variances[i] = floored_variance(m2 / double(k - 1), mean);
+        for (size_t j = 0; j < k; ++j) pixel_values[j] = images[j].value[c][i];
+        few_values[i] = has_few_distinct_values(pixel_values);
       }
       means[i] = mean;
       all_constant = all_constant && variances[i] == 0;
@@ -266,6 +277,11 @@ CheckResult check_images(const std::vector<ForeignImage>& images, const std::vec
       const stats::MeanTestResult t =
           stats::mean_test(uint64_t(counts[i]), means[i], variances[i], reference[i], alpha_pixel, kReportedPower);
       r.pixel_t[c][i] = signed_statistic(t);
+      if (few_values[i]) {
+        ++cc.pixels_few_values;
+        candidates.push_back({i, c, means[i], r.pixel_t[c][i], true});
+        continue;
+      }
       // Constant across every sample yet off the reference, in a render that
       // is not zero-variance: a rare contribution (p ≪ 1/samples) was never
       // sampled. Its skewness is unbounded, so like verify's harness the

@@ -60,6 +60,15 @@ inline constexpr double kImageMeanAlphaShare = 0.5;
 // claim a power they lack. The bound is s·√(ν/χ²_{1−c, ν}): 7.96·s at ν = 1,
 // 1.57·s at ν = 7, 1.16·s at ν = 63; 1 for the z-test of one furnace EXR.
 inline constexpr double kSpreadConfidence = 0.9;
+// A pixel's K values repeat when at most K / kFewValuesDivisor of them are
+// distinct (and not all are equal: that is the zero-spread case); tested only
+// from kFewValuesMinImages images on (below, two equal values of three are
+// not evidence of a discrete render).
+inline constexpr int kFewValuesDivisor = 2;
+inline constexpr int kFewValuesMinImages = 4;
+// True when `values` (one pixel's K values) take so few distinct values that
+// their spread does not estimate the error (ChannelCheck::pixels_few_values).
+bool has_few_distinct_values(std::vector<double> values);
 // Pixels listed as the worst (largest |t|).
 inline constexpr int kWorstPixelsShown = 5;
 // The image count the advice quotes the spp for when K is smaller: with 7
@@ -106,6 +115,14 @@ struct ChannelCheck {
   // while other pixels vary: a rare contribution never sampled (verify's
   // harness rule). Not tested; the image-mean test still sees them.
   int pixels_untested = 0;
+  // K ≥ 4 values taking at most K/2 distinct values (pixels_few_values): a
+  // quasi-Monte Carlo or quantised render, whose values repeat to the bit.
+  // Independent renders with continuous noise essentially never tie, so the
+  // spread of such a pixel says nothing about its error (15 of 16 equal
+  // values give a spread near zero and an exploding t). Not tested, and left
+  // out of the median detectable pixel bias; the image-mean test still sees
+  // them.
+  int pixels_few_values = 0;
   double pixel_alpha = 0;
   double pixel_threshold = 0;  // critical |t| of the median pixel (they differ with N for one furnace EXR)
   double pixel_dof = 0;        // of the median pixel
@@ -118,7 +135,7 @@ struct WorstPixel {
   std::string channel;
   double value = 0, reference = 0;
   double t = 0;  // ±inf: zero spread and not on the reference
-  bool untested = false;  // see ChannelCheck::pixels_untested
+  bool untested = false;  // see ChannelCheck::pixels_untested and pixels_few_values
 };
 
 // How many images or samples would give the image-mean test its power,

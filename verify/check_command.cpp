@@ -94,6 +94,7 @@ json check_json(const Scene& scene, const std::string& scene_hash, const CheckRe
                         {"image_mean_pass", c.image_mean_pass},
                         {"pixel_failures", c.pixel_failures},
                         {"pixels_untested", c.pixels_untested},
+                        {"pixels_few_values", c.pixels_few_values},
                         {"pixel_alpha", c.pixel_alpha},
                         {"pixel_threshold", number(c.pixel_threshold)},
                         {"pixel_dof", number(c.pixel_dof)},
@@ -183,8 +184,12 @@ std::string format_check(const Scene& scene, const CheckReference& reference, co
                        power ? fmt::format("has power (<= {})", percent(r.max_detectable_bias))
                              : fmt::format("LOW POWER (> {})", percent(r.max_detectable_bias)));
     const bool pixel_power = c.median_pixel_detectable_relative_bias <= r.max_detectable_bias;
-    const std::string untested =
+    std::string untested =
         c.pixels_untested > 0 ? fmt::format(", {} untested (constant yet off the reference)", c.pixels_untested) : "";
+    if (c.pixels_few_values > 0)
+      untested += fmt::format(", {} untested (their {} values take at most {} distinct values, as a quasi-Monte Carlo "
+                              "or quantised render gives: the spread does not estimate their error)",
+                              c.pixels_few_values, r.images, r.images / kFewValuesDivisor);
     out += fmt::format("pixels{}: {}/{} fail{} (critical |t| {:.3g}, {}), median detectable pixel bias {}: {}; "
                        "relative RMSE {:.3e}\n",
                        label, c.pixel_failures, r.pixels, untested, c.pixel_threshold, dof_text(c.pixel_dof),

@@ -244,6 +244,64 @@ TEST_F(Check, FailWinsOverInconclusive) {
   EXPECT_EQ(r.verdict, CheckVerdict::kFail);
 }
 
+// A quasi-Monte Carlo render (Cycles' Sobol-Burley) makes some pixels repeat
+// to the bit across seeds: 15 of 16 equal values, one apart. Their spread is
+// near zero, so a t-test would fail them on any offset; they are reported as
+// untested instead, and the image-mean test still sees them.
+class CheckFewValues : public Check {
+ protected:
+  // Images of `synthetic(16)` whose first kRepeatedPixels lit pixels hold
+  // reference·gain in 15 images and the next float up in one.
+  std::vector<ForeignImage> with_repeating_pixels(double gain) {
+    std::vector<ForeignImage> images = synthetic(kImages);
+    int changed = 0;
+    for (size_t i = 0; i < reference_.size() && changed < kRepeatedPixels; ++i) {
+      if (reference_[i] <= 0) continue;
+      const float v = float(reference_[i] * gain);
+      for (size_t j = 0; j < images.size(); ++j)
+        images[j].value[0][i] = j == 0 ? std::nextafter(v, 2 * v) : v;
+      ++changed;
+    }
+    return images;
+  }
+  static constexpr int kImages = 16;
+  static constexpr int kRepeatedPixels = 8;
+};
+
+TEST(HasFewDistinctValues, RepeatsAmongFourOrMoreValues) {
+  EXPECT_TRUE(has_few_distinct_values({1, 1, 1, 2}));
+  EXPECT_TRUE(has_few_distinct_values({3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 4}));
+  EXPECT_TRUE(has_few_distinct_values({1, 2, 1, 2, 3, 3}));
+  EXPECT_FALSE(has_few_distinct_values({1, 2, 3, 4}));
+  EXPECT_FALSE(has_few_distinct_values({1, 1, 2, 3}));     // 3 distinct of 4
+  EXPECT_FALSE(has_few_distinct_values({1, 1, 2}));        // too few images to tell
+  EXPECT_FALSE(has_few_distinct_values({5, 5, 5, 5, 5}));  // all equal: the zero-spread case
+}
+
+TEST_F(CheckFewValues, ContinuousNoiseHasNone) {
+  const CheckResult r = check_images(synthetic(kImages), reference_, kAlpha, kDefaultMaxDetectableBias);
+  EXPECT_EQ(r.channels[0].pixels_few_values, 0);
+  EXPECT_EQ(r.verdict, CheckVerdict::kPass);
+}
+
+TEST_F(CheckFewValues, RepeatingPixelsAreUntestedNotFailed) {
+  // 1 % off with a spread of one float step: t ~ 1e5.
+  const CheckResult r = check_images(with_repeating_pixels(1.01), reference_, kAlpha, kDefaultMaxDetectableBias);
+  EXPECT_EQ(r.channels[0].pixels_few_values, kRepeatedPixels);
+  EXPECT_EQ(r.channels[0].pixel_failures, 0);
+  EXPECT_EQ(r.verdict, CheckVerdict::kPass);
+  ASSERT_FALSE(r.worst_pixels.empty());
+  EXPECT_TRUE(r.worst_pixels[0].untested);
+}
+
+TEST_F(CheckFewValues, ImageMeanStillSeesRepeatingPixels) {
+  // Eight pixels 40 times too bright move the image mean by far more than it can miss.
+  const CheckResult r = check_images(with_repeating_pixels(40), reference_, kAlpha, kDefaultMaxDetectableBias);
+  EXPECT_EQ(r.channels[0].pixels_few_values, kRepeatedPixels);
+  EXPECT_FALSE(r.channels[0].image_mean_pass);
+  EXPECT_EQ(r.verdict, CheckVerdict::kFail);
+}
+
 TEST_F(Check, ColourErrorKeepingTheGrayMeanFailsOnlyPerChannel) {
   // R +3 %, B −3 %: the gray mean is unchanged.
   const CheckResult gray = check_images(synthetic(8, 1.03, 1, 0.97), reference_, kAlpha, kDefaultMaxDetectableBias);
