@@ -476,14 +476,14 @@ int main(int argc, char** argv) {
   export_cmd->add_option("--format", e_format, "Target format")->required()->check(CLI::IsMember({"pbrt-v4", "cycles"}));
   auto* e_spp_opt = export_cmd->add_option("--spp", e_options.spp, "Samples per pixel (pbrt-v4 default 256, cycles "
                                            "default 128)")->check(cli::integer_in(1, kMaxSpp));
-  auto* e_seed_opt = export_cmd->add_option("--seed", e_seed, "Seed written into the file (default: none, the "
-                                            "renderer's own --seed chooses)")->check(cli::seed_value());
+  auto* e_seed_opt = export_cmd->add_option("--seed", e_seed, "pbrt-v4: seed written into the file (default: "
+                                            "none, the renderer's own --seed chooses)")->check(cli::seed_value());
   add_max_depth_option(export_cmd, e_options.max_segments, "Longest path in segments, the camera's included, or "
                        "'unlimited' (default unlimited); the file names the matching furnace check --max-depth");
   exporter::CyclesOptions e_cycles;
-  export_cmd->add_option("--emitter-grid", e_cycles.emitter_grid, "cycles: cut each emitting rectangle or triangle "
+  auto* e_grid_opt = export_cmd->add_option("--emitter-grid", e_cycles.emitter_grid, "cycles: cut each emitting rectangle or triangle "
                          "into a grid of N x N cells")->capture_default_str()->check(cli::integer_in(1, 256));
-  export_cmd->add_option("--sphere-subdivisions", e_cycles.sphere_subdivisions, "cycles: icosphere level of each "
+  auto* e_sphere_opt = export_cmd->add_option("--sphere-subdivisions", e_cycles.sphere_subdivisions, "cycles: icosphere level of each "
                          "sphere (20*4^L triangles)")->capture_default_str()->check(cli::integer_in(0, 7));
   export_cmd->add_option("--output,-o", e_output, "Output file")->required()->check(cli::output_file());
   with_contract(export_cmd);
@@ -540,6 +540,9 @@ int main(int argc, char** argv) {
         fmt::print("exported {} ({}) for {} -> {}\n", scene.name, scene.source, e_format, e_output);
         return 0;
       }
+      if (*e_grid_opt || *e_sphere_opt)
+        throw Error("options --emitter-grid and --sphere-subdivisions apply to --format cycles only (pbrt-v4 "
+                    "renders rectangles and spheres exactly).");
       if (*e_seed_opt) e_options.seed = e_seed;
       e_options.image_filename = std::filesystem::path(e_output).stem().string() + ".exr";
       exporter::write_pbrt_v4(scene, e_options, e_output);

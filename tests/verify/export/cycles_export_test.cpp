@@ -394,7 +394,8 @@ TEST_F(CyclesExportFile, CliExportsAndRefusesWithExitTwoWritingNothing) {
         "--format cycles --max-depth 1", "--scene " + scenes + "/disk_occluder.json --format cycles --seed 3",
         "--scene " + scenes + "/disk_occluder.json --format cycles --emitter-grid 0",
         "--scene " + scenes + "/disk_occluder.json --format cycles --sphere-subdivisions 8",
-        "--scene " + scenes + "/disk_occluder.json --format cycles --spp 0"}) {
+        "--scene " + scenes + "/disk_occluder.json --format cycles --spp 0",
+        "--scene " + scenes + "/disk_occluder.json --format pbrt-v4 --emitter-grid 2"}) {
     const CliResult r = run_cli("export " + args + " -o " + refused_out.string());
     EXPECT_EQ(r.exit_code, 2) << args << ": " << r.output;
     EXPECT_TRUE(contains(r.output, "furnace: error:")) << args << ": " << r.output;
