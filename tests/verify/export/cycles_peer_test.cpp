@@ -227,9 +227,9 @@ const std::map<std::string, std::string> kKnownCyclesDefects = {
      "up to 4.7x the reference; square lights that also hide part of the big light: |t| up to 279); image mean "
      "+5.5 %"},
     {"convex_furnace",
-     "about 1 sample in 1000 takes the other side's value in pixels up to 0.4 px from the sphere's silhouette "
-     "(the pixel filter keeps samples within 0.01 px; the same with 81 920 triangles): image mean -0.0012 %, "
-     "t -5.39"},
+     "about 0.2 % of the camera samples of pixels crossed by the sphere's silhouette land anywhere in the pixel "
+     "instead of within 0.01 px of its centre (the same with a flat 4096-gon, either filter or sampling pattern; "
+     "none at straight edges): image mean -0.0012 %, t -5.39"},
 };
 
 TEST_P(CyclesPeerScene, PassesFurnaceCheck) {
