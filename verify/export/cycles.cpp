@@ -338,6 +338,9 @@ def arguments():
         parser.error('--spp must be in 1..%d, got %d' % (SPP_MAX, args.spp))
     if not 0 <= args.threads <= 1024:
         parser.error('--threads must be in 0..1024, got %d' % args.threads)
+    directory = os.path.dirname(os.path.abspath(args.output))
+    if not os.path.isdir(directory) or not os.access(directory, os.W_OK):
+        parser.error('--output %r: the directory %r does not exist or is not writable' % (args.output, directory))
     return seeds, args.output, args.spp, args.threads
 
 

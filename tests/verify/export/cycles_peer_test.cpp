@@ -249,6 +249,35 @@ INSTANTIATE_TEST_SUITE_P(BuiltIn, CyclesPeerScene, testing::ValuesIn(exportable_
                          [](const testing::TestParamInfo<std::string>& info) { return camel_case(info.param); });
 
 #if !FURNACE_PEER_COSTLY_SCENES
+class CyclesPeerScript : public CyclesPeer, public testing::Test {
+ protected:
+  void SetUp() override {
+    if (!set_up("Script")) GTEST_SKIP() << no_blender_message();
+  }
+  void TearDown() override { tear_down(!HasFailure()); }
+};
+
+// The script's own contract: bad arguments exit 2 with one line naming the
+// argument, before anything is rendered or written.
+TEST_F(CyclesPeerScript, BadArgumentsExitTwoAndWriteNothing) {
+  const fs::path script = dir_ / "scene.py";
+  write_cycles(load_scene(scene_file("rectangle_light")), {}, script);
+  for (const std::string& args :
+       {fmt::format("--seeds 5-1 --output {}", quoted(dir_ / "r_{seed}.exr")),
+        fmt::format("--seeds 1-2 --output {}", quoted(dir_ / "r.exr")),
+        fmt::format("--seed 1 --spp 0 --output {}", quoted(dir_ / "r.exr")),
+        fmt::format("--seed 1 --output {}", quoted(dir_ / "missing" / "r.exr"))}) {
+    const CommandResult r =
+        run(fmt::format("{} -b --factory-startup --python-exit-code 1 --python {} -- {}", quoted(*blender_),
+                        quoted(script), args));
+    EXPECT_EQ(r.exit_code, 2) << args << ":\n" << r.output;
+    EXPECT_NE(r.output.find("error: --"), std::string::npos) << args << ":\n" << r.output;
+  }
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir_)) left.push_back(e.path().filename().string());
+  EXPECT_EQ(left, std::vector<std::string>{"scene.py"});
+}
+
 // An export that is correct in every respect but one tessellation choice
 // Cycles renders wrongly: expected to fail, its numbers printed.
 struct Finding {
