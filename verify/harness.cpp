@@ -38,9 +38,9 @@ int min_calibrated_spp(Strategy strategy) {
     case Strategy::kBsdf: return 128;               // at most 1/110 at 128, 256 and 512
     case Strategy::kMisBalance: return 512;         // measured at 512 only (8/200)
     case Strategy::kMisPower: return 512;           // measured at 512 only (3/200)
-    case Strategy::kMisOneSample: return 512;       // measured at 512 only
-    case Strategy::kPathNaive: return 512;
-    case Strategy::kPathMis: return 512;
+    case Strategy::kMisOneSample: return 512;       // measured at 512 only (3/200)
+    case Strategy::kPathNaive: return 128;          // at most 2/130 at 128, 256 and 512
+    case Strategy::kPathMis: return 256;            // 128: polygon_occluder 5/10
   }
   return 512;  // unreachable: the switch names every strategy
 }
