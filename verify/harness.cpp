@@ -36,9 +36,9 @@ int min_calibrated_spp(Strategy strategy) {
     case Strategy::kLightArea: return 512;          // 256: point_and_area (power selection) 6/10
     case Strategy::kLightSolidAngle: return 256;    // 128: sphere_occluder 4/10, polygon_occluder 5/10
     case Strategy::kBsdf: return 128;               // at most 1/110 at 128, 256 and 512
-    case Strategy::kMisBalance: return 512;         // measured at 512 only (8/200)
-    case Strategy::kMisPower: return 512;           // measured at 512 only (3/200)
-    case Strategy::kMisOneSample: return 512;       // measured at 512 only (3/200)
+    case Strategy::kMisBalance: return 512;         // 256: rectangle_light 8/10
+    case Strategy::kMisPower: return 512;           // measured at 512 only (3/200), as mis_balance
+    case Strategy::kMisOneSample: return 512;       // measured at 512 only (3/200), as mis_balance
     case Strategy::kPathNaive: return 128;          // at most 2/130 at 128, 256 and 512
     case Strategy::kPathMis: return 256;            // 128: polygon_occluder 5/10
   }
