@@ -20,13 +20,18 @@ inline constexpr double kDefaultFamilyAlpha = 0.01;
 // would catch with probability 1 − β. 0.9 is the usual design power.
 inline constexpr double kReportedPower = 0.9;
 // The smallest spp at which the built-in suite's false-alarm rate has been
-// measured to stay within its stated α (`furnace sweep`, README "Low spp").
-// Below it the per-pixel tests' normal approximations (Hall's statistic,
-// Cochran's rule, the fourth-moment standard error of s²) are not
-// calibrated: verify and sweep still run but print low_spp_warning().
-inline constexpr int kMinCalibratedSpp = 512;
-// One sentence warning that `spp` is below kMinCalibratedSpp; empty at or above it.
-std::string low_spp_warning(int spp);
+// measured to stay within its stated α, per strategy: `furnace sweep
+// --strategy NAME` found no case rejecting significantly more often than its
+// per-case α there and at every larger spp measured (README "Low spp" gives
+// the counts). Below it the per-pixel tests' normal approximations (Hall's
+// statistic, Cochran's rule, the fourth-moment standard error of s²) are not
+// calibrated for that strategy's most skewed cases: verify and sweep still
+// run but print low_spp_warning().
+int min_calibrated_spp(Strategy strategy);
+// The smallest and largest min_calibrated_spp over all strategies (--help).
+int lowest_min_calibrated_spp();
+int highest_min_calibrated_spp();
+
 
 // Each pixel's mean is tested with Hall's skewness-corrected t statistic
 // against Student's t quantile (stats::pixel_mean_test, verify/pixel_tests.h).
@@ -42,6 +47,11 @@ struct Case {
   std::string scene_path;
   RenderOptions options;
 };
+
+// One sentence naming each strategy among `cases` whose case spp is below its
+// min_calibrated_spp, with that spp; empty when every case is at or above its
+// strategy's.
+std::string low_spp_warning(const std::vector<Case>& cases);
 
 struct Verdict {
   std::string scene;

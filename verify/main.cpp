@@ -12,6 +12,7 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "analytic/global.h"
 #include "core/error.h"
@@ -136,7 +137,7 @@ int run_verify(std::vector<std::string> scenes, std::vector<std::string> strateg
   if (cases.empty()) throw Error("no verification case matches the given --scene and --strategy options.");
   const double per_case_alpha = stats::sidak_alpha(alpha, cases.size());
   if (!outputs.html_dir.empty()) cli::create_output_directory(outputs.html_dir, "--html");
-  const std::string warning = verify::low_spp_warning(spp);
+  const std::string warning = verify::low_spp_warning(cases);
   if (!warning.empty()) std::fprintf(stderr, "furnace: warning: %s\n", warning.c_str());
   std::vector<verify::Verdict> verdicts;
   verify::Progress progress("verify", cases.size());
@@ -234,7 +235,7 @@ int run_sweep(const std::vector<std::string>& strategies, int seeds, int spp, do
     if (selected) cases.push_back(c);
   }
   if (cases.empty()) throw Error("no sweep case matches the given --strategy options.");
-  const std::string warning = verify::low_spp_warning(spp);
+  const std::string warning = verify::low_spp_warning(cases);
   if (!warning.empty()) std::fprintf(stderr, "furnace: warning: %s\n", warning.c_str());
   fmt::print("false-alarm sweep: {} cases x {} seeds at {} spp, per-case alpha {}\n", cases.size(), seeds, spp,
              case_alpha);
@@ -274,6 +275,15 @@ int run_sweep(const std::vector<std::string>& strategies, int seeds, int spp, do
   std::puts(calibrated ? "calibration: OK (no case rejects significantly more often than alpha)"
                        : "calibration: FAIL (some case rejects significantly more often than alpha)");
   return calibrated ? 0 : 1;
+}
+
+// "uniform_hemisphere 128, cosine_hemisphere 128, ...": each strategy's
+// verify::min_calibrated_spp, in table order, for --help.
+std::string calibrated_spp_list() {
+  std::vector<std::string> items;
+  for (const StrategyInfo& info : kStrategyTable)
+    items.push_back(fmt::format("{} {}", info.name, verify::min_calibrated_spp(info.strategy)));
+  return fmt::format("{}", fmt::join(items, ", "));
 }
 
 // The accepted names of each vocabulary, in table order, for CLI11's
@@ -327,8 +337,9 @@ int main(int argc, char** argv) {
     command->footer(footer.empty() ? std::string(cli::kExitContract) : footer + "\n" + cli::kExitContract);
   };
   const std::string spp_help = fmt::format(
-      "Samples per pixel (the variance test needs >= {}; the stated alpha is calibrated from {})",
-      stats::kMinVarianceTestSamples, verify::kMinCalibratedSpp);
+      "Samples per pixel (the variance test needs >= {}; the stated alpha is calibrated from {} to {} spp, "
+      "depending on the strategy)",
+      stats::kMinVarianceTestSamples, verify::lowest_min_calibrated_spp(), verify::highest_min_calibrated_spp());
 
   std::string scene_path, strategy = "light_area", defect = "none", output = "out.exr";
   int spp = 64, threads = 0;
@@ -378,8 +389,9 @@ int main(int argc, char** argv) {
                        "included, or 'unlimited' (default unlimited; the built-in suite sets its own)")
       ->needs(v_scene_opt);
   with_contract(verify_cmd, fmt::format("A test that cannot run (the variance test below {} spp) is skipped and "
-                                        "named, never failed; below {} spp a warning says alpha is not calibrated.",
-                                        stats::kMinVarianceTestSamples, verify::kMinCalibratedSpp));
+                                        "named, never failed; below a strategy's calibrated spp ({}) a warning "
+                                        "says alpha is not calibrated.",
+                                        stats::kMinVarianceTestSamples, calibrated_spp_list()));
 
   std::string v_json, v_html;
   verify_cmd->add_option("--json", v_json, "Also write every number of the verdict table as JSON to FILE")

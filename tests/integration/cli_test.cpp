@@ -14,6 +14,8 @@
 
 #include "tests/command.h"
 #include "core/exr.h"
+#include "verify/harness.h"
+#include "verify/statistics.h"
 
 namespace {
 
@@ -165,8 +167,9 @@ TEST(Cli, HelpAndVersionExitZeroAndHelpStatesTheExitCodes) {
 }
 
 // Below stats::kMinVarianceTestSamples the variance test cannot run: it is
-// skipped and named, the case passes on its mean tests; below
-// kMinCalibratedSpp a warning says the stated alpha is not calibrated there.
+// skipped and named, the case passes on its mean tests; below the strategy's
+// verify::min_calibrated_spp a warning says the stated alpha is not
+// calibrated there.
 TEST(Cli, TooFewSamplesSkipTheVarianceTestLoudlyAndTheCasePasses) {
   const Result r = run_cli("verify --scene " + std::string(FURNACE_SCENE_DIR) +
                            "/disk_occluder.json --strategy light_area --spp 99");
@@ -178,6 +181,36 @@ TEST(Cli, TooFewSamplesSkipTheVarianceTestLoudlyAndTheCasePasses) {
   EXPECT_NE(r.output.find("verdict: PASS"), std::string::npos) << r.output;
   // Not a terminal: no progress line.
   EXPECT_EQ(r.output.find('\r'), std::string::npos) << r.output;
+}
+
+// The low-spp warning is per strategy: a case warns exactly when its spp is
+// below its own strategy's measured threshold, and the warning names those
+// strategies only, each with its threshold.
+TEST(Cli, LowSppWarningNamesEachStrategyBelowItsCalibratedSpp) {
+  using furnace::verify::Case;
+  const auto case_at = [](furnace::Strategy strategy, int spp) {
+    Case c;
+    c.options.strategy = strategy;
+    c.options.spp = spp;
+    return c;
+  };
+  for (const furnace::StrategyInfo& info : furnace::kStrategyTable) {
+    const int threshold = furnace::verify::min_calibrated_spp(info.strategy);
+    EXPECT_GE(uint64_t(threshold), furnace::stats::kMinVarianceTestSamples) << info.name;
+    EXPECT_EQ(furnace::verify::low_spp_warning({case_at(info.strategy, threshold)}), "") << info.name;
+    const std::string below = furnace::verify::low_spp_warning({case_at(info.strategy, threshold - 1)});
+    EXPECT_NE(below.find(std::to_string(threshold - 1) + " spp is below"), std::string::npos) << below;
+    EXPECT_NE(below.find(std::string(info.name) + " (" + std::to_string(threshold) + ")"), std::string::npos)
+        << below;
+  }
+  // A mixed run: only the strategy below its threshold is named.
+  const furnace::Strategy low = furnace::Strategy::kLightArea, other = furnace::Strategy::kCosineHemisphere;
+  const int spp = furnace::verify::min_calibrated_spp(low) - 1;
+  const std::string mixed = furnace::verify::low_spp_warning(
+      {case_at(low, spp), case_at(other, std::max(spp, furnace::verify::min_calibrated_spp(other)))});
+  EXPECT_NE(mixed.find("light_area"), std::string::npos) << mixed;
+  EXPECT_EQ(mixed.find("cosine_hemisphere"), std::string::npos) << mixed;
+  EXPECT_LE(furnace::verify::lowest_min_calibrated_spp(), furnace::verify::highest_min_calibrated_spp());
 }
 
 // Non-finite samples (the nan_sample control: one sample in 1024 is NaN)
