@@ -96,8 +96,9 @@ double emitter_kernel(Strategy estimator, const Scene& scene, size_t i, const Ve
                    const auto view = disk_light_view(scene, i, p, n, receiver, &reason);
                    if (view) return hemisphere ? hemisphere_kernel(*view) : area_kernel(*view);
                    if (reason.empty()) return 0.0;
-                   if (hemisphere) return planar_light_cos2_solid_angle(scene, i, p, n, receiver);  // exact planar path
-                   unsupported_configuration(scene, reason + " (for the light-area second moment)");
+                   // The exact planar path (tilted receivers, occluders as planar_light.h allows).
+                   return hemisphere ? planar_light_cos2_solid_angle(scene, i, p, n, receiver)
+                                     : planar_light_area_kernel(scene, i, p, n, receiver);
                  },
                  [&](const Sphere& sphere) {
                    if (emitter_irradiance(scene, i, p, n, receiver) == 0) return 0.0;  // nothing of it reaches p

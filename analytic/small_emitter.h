@@ -50,4 +50,11 @@ double small_polygon_irradiance(const std::vector<Vec3>& vertices, const Vec3& n
 // Domain: R/(|centre| − R) ≤ kSmallAngle.
 double small_disk_irradiance(const Vec3& center, const Vec3& m, double R, const Vec3& n);
 
+// ∫ (max(n·x, 0)·|m·x|/|x|⁴)² dA = ∫_lit (cos θ cos θ'/r²)² dA over the same
+// disk (the light-area second-moment kernel, m⁻²), by the same segment map
+// and rule. The squared kernel has the same singularity (r = 0, now a pole of
+// twice the order), so the rule converges at the same rate, ~ (q/4)^(2N),
+// with a larger constant. Domain: R/(|centre| − R) ≤ kSmallAngle.
+double small_disk_area_kernel(const Vec3& center, const Vec3& m, double R, const Vec3& n);
+
 }  // namespace furnace::analytic
