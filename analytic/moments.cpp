@@ -94,6 +94,11 @@ double emitter_kernel(Strategy estimator, const Scene& scene, size_t i, const Ve
       overloaded{[&](const Disk&) {
                    std::string reason;
                    const auto view = disk_light_view(scene, i, p, n, receiver, &reason);
+                   // The light-area kernel of an unoccluded disk by the planar path
+                   // (small disks by the product rule, the foot point far outside by
+                   // the tail form): the circle path's contour terms cancel there.
+                   if (view && !hemisphere && view->occluder_images.empty())
+                     return planar_light_area_kernel(scene, i, p, n, receiver);
                    if (view) return hemisphere ? hemisphere_kernel(*view) : area_kernel(*view);
                    if (reason.empty()) return 0.0;
                    // The exact planar path (tilted receivers, occluders as planar_light.h allows).

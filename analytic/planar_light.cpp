@@ -370,8 +370,11 @@ double planar_light_area_kernel(const Scene& scene, size_t light_index, const Ve
   const Point2 foot{0, 0};
   bool foot_inside = inside_region(setup.light_region, foot) && (!setup.keep || setup.keep->c >= 0);
   for (const Region2& o : setup.occluders) foot_inside = foot_inside && !inside_region(o, foot);
+  // Magnitude of the world coordinates the plane coordinates were computed from.
+  const BoundingSphere ball = bounding_sphere(scene.objects[light_index].shape);
+  const double scale = std::fmax(max_abs_component(p), max_abs_component(ball.center) + ball.radius);
   return contour_area_kernel(boundary, setup.h, -setup.h * dot(n, setup.front), dot(n, setup.frame.s),
-                             dot(n, setup.frame.t), foot_inside);
+                             dot(n, setup.frame.t), foot_inside, scale);
 }
 
 Scene as_lone_unit_emitter(const Scene& scene, size_t object) {
