@@ -56,7 +56,11 @@ double polygon_angular_size(const std::vector<Vec3>& vertices) {
   return distance > 0 ? diameter / distance : INFINITY;
 }
 
-double small_polygon_irradiance(const std::vector<Vec3>& v, const Vec3& n) {
+namespace {
+
+// The fan rule of small_polygon_irradiance for any kernel(x, n, m).
+template <class Kernel>
+double small_polygon_rule(const std::vector<Vec3>& v, const Vec3& n, Kernel kernel) {
   const UnitRule& g = unit_rule();
   const Vec3 m = polygon_normal(v);
   double sum = 0;
@@ -73,6 +77,19 @@ double small_polygon_irradiance(const std::vector<Vec3>& v, const Vec3& n) {
     sum += jacobian * triangle;
   }
   return sum;
+}
+
+}  // namespace
+
+double small_polygon_irradiance(const std::vector<Vec3>& v, const Vec3& n) {
+  return small_polygon_rule(v, n, kernel);
+}
+
+double small_polygon_area_kernel(const std::vector<Vec3>& v, const Vec3& n) {
+  return small_polygon_rule(v, n, [](const Vec3& x, const Vec3& n, const Vec3& m) {
+    const double k = kernel(x, n, m);
+    return k * k;
+  });
 }
 
 namespace {
