@@ -217,8 +217,10 @@ TEST(MomentPrecision, LightAreaDiskNearGrazingTilted) {
   sweep_disk("light_area disk: foot point on the rim", {1e-2, 1e-4}, {1.0}, {{0.6, 0.8}}, kTilts);
 }
 
-// The same at h = 1e-6 (slower 50-digit references).
-TEST(MomentPrecisionSlow, LightAreaDiskNearerGrazingTilted) {
+// The same at h = 1e-6. Disabled: its 50-digit references did not finish
+// within 15 minutes on a loaded 2-core machine (the reference, not the value
+// under test, which takes ≤ 0.12 s per query here); to be made cheaper.
+TEST(MomentPrecisionSlow, DISABLED_LightAreaDiskNearerGrazingTilted) {
   sweep_disk("light_area disk: h 1e-6 x tilt", {1e-6}, {1.0}, {{0, 0}, {0.3, 0.5}, {1.5, 0}}, kTilts);
 }
 
@@ -357,7 +359,9 @@ TEST(MomentPrecisionSlow, LightSolidAngleSphere) {
 // MIS (balance, power, one-sample) under a sphere light sampled in its cone,
 // p_l = 1/Ω: E[Y²] = E[Y_b²] + E[Y_l²] + 2·E[Y_b]·E[Y_l] (multi-sample) or
 // ∫ (cos θ)²/q dω, q = c·p_b + (1 − c)·p_l (one-sample), each term a cone integral.
-TEST(MomentPrecisionSlow, MisSphere) {
+// Disabled: not yet run to completion (about 100 two-dimensional 50-digit
+// cone integrals, ~1.5 s each); its reference is written, its numbers are not.
+TEST(MomentPrecisionSlow, DISABLED_MisSphere) {
   Worst worst;
   for (const SpherePlacement& s : sphere_placements()) {
     const Scene scene = sphere_scene(s);
