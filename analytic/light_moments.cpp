@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <boost/math/quadrature/gauss.hpp>
 #include <boost/math/quadrature/tanh_sinh.hpp>
@@ -138,7 +139,17 @@ constexpr size_t kAreaKernelBisections = 2000;
 }  // namespace
 
 double sphere_cos2_solid_angle(const Vec3& center, double R, const Vec3& n) {
-  return cone_integral(center, R, n, [](double) { return 1.0; });
+  const double value = cone_integral(center, R, n, [](double) { return 1.0; });
+  // Round-off of the rings' closed form: each ring's terms are ~ 2π(a² + b²/2)
+  // however much of it the horizon cuts off, so a sliver above the horizon
+  // keeps an absolute error ~ ε·∫ 2π(a² + b²/2) sin γ dγ (the whole cone's
+  // ∫ cos²θ dω, in closed form below), reported relative to the value.
+  const double D = length(center), cos_a = std::sqrt((1 - R / D) * (1 + R / D));
+  const double cos_b = dot(n, center) / D, sin_b2 = length_squared(cross(n, center)) / (D * D);
+  const double cone_scale = 2 * kPi * (cos_b * cos_b * (1 - cos_a * cos_a * cos_a) / 3 +
+                                       0.5 * sin_b2 * (2 - 3 * cos_a + cos_a * cos_a * cos_a) / 3);
+  if (value > 0) ErrorLedger::report(kRoundoffUlps * std::numeric_limits<double>::epsilon() * cone_scale, value);
+  return value;
 }
 
 double sphere_area_kernel(const Vec3& center, double R, const Vec3& n) {
@@ -178,6 +189,9 @@ double polygon_cos2_solid_angle(const std::vector<Vec3>& vertices, const Vec3& n
 double polygon_area_kernel(const std::vector<Vec3>& vertices, const Vec3& n) {
   const std::vector<Vec3> clipped = clip_to_hemisphere(vertices, n);
   if (clipped.size() < 3) return 0.0;
+  // Small polygons: the edge tails below cancel to ~ (size/distance)² of
+  // their terms (a foot point far outside); the product rule keeps every digit.
+  if (polygon_angular_size(clipped) <= kSmallAngle) return small_polygon_area_kernel(clipped, n);
   const Vec3 m = polygon_normal(clipped);
   const double signed_h = dot(m, clipped[0]);
   const double h = std::fabs(signed_h);

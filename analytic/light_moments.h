@@ -16,7 +16,9 @@ namespace furnace::analytic {
 // integral of max(a + b cos ψ, 0)² is closed form,
 //   2[(a² + b²/2)ψ_m + 2ab sin ψ_m + (b²/4) sin 2ψ_m],  ψ_m = acos(clamp(−a/b)),
 // and γ ∈ [0, α] (sin α = R/|center|) by tanh–sinh, split where the horizon
-// starts to cut the rings (γ = |π/2 − β|). Relative tolerance 1e-13.
+// starts to cut the rings (γ = |π/2 − β|). Relative tolerance 1e-13. The
+// ledger also gets the rings' round-off, kRoundoffUlps·ε times the whole
+// cone's ∫ cos²θ dω: large relative to a sliver above the horizon.
 double sphere_cos2_solid_angle(const Vec3& center, double R, const Vec3& n);
 
 // ∫_{visible surface} (cos θ cos θ'/r²)² dA of a sphere = ∫_cone max(cos θ, 0)²·cos θ'/r² dω
@@ -46,7 +48,9 @@ double polygon_cos2_solid_angle(const std::vector<Vec3>& vertices, const Vec3& n
 // Gauss–Kronrod along each edge in the edge's own polar angle (bounded
 // cost; the error reached goes to the ErrorLedger). Keeps full precision and
 // a cost of milliseconds as h → 0 (the kernel's peak of width h at F).
-// Units: m⁻². Relative tolerance 1e-14.
+// Units: m⁻². Relative tolerance 1e-14. A small polygon (angular size ≤
+// kSmallAngle, small_emitter.h) goes to small_polygon_area_kernel instead:
+// with F far outside, the tails cancel to ~ (size/distance)² of their terms.
 double polygon_area_kernel(const std::vector<Vec3>& vertices, const Vec3& n);
 
 // Full (unclipped) solid angles, sr, for the solid-angle sampling densities

@@ -94,10 +94,16 @@ double emitter_kernel(Strategy estimator, const Scene& scene, size_t i, const Ve
       overloaded{[&](const Disk&) {
                    std::string reason;
                    const auto view = disk_light_view(scene, i, p, n, receiver, &reason);
+                   // The light-area kernel of an unoccluded disk by the planar path
+                   // (small disks by the product rule, the foot point far outside by
+                   // the tail form): the circle path's contour terms cancel there.
+                   if (view && !hemisphere && view->occluder_images.empty())
+                     return planar_light_area_kernel(scene, i, p, n, receiver);
                    if (view) return hemisphere ? hemisphere_kernel(*view) : area_kernel(*view);
                    if (reason.empty()) return 0.0;
-                   if (hemisphere) return planar_light_cos2_solid_angle(scene, i, p, n, receiver);  // exact planar path
-                   unsupported_configuration(scene, reason + " (for the light-area second moment)");
+                   // The exact planar path (tilted receivers, occluders as planar_light.h allows).
+                   return hemisphere ? planar_light_cos2_solid_angle(scene, i, p, n, receiver)
+                                     : planar_light_area_kernel(scene, i, p, n, receiver);
                  },
                  [&](const Sphere& sphere) {
                    if (emitter_irradiance(scene, i, p, n, receiver) == 0) return 0.0;  // nothing of it reaches p

@@ -5,9 +5,9 @@
 // Units: Y is an irradiance estimate (W·m⁻²); E[Y²] is in W²·m⁻⁴.
 // Supported: every emitter irradiance() solves for the cosine estimator
 // (E[Y²] = π Σ L·E needs only the irradiances); for the uniform-hemisphere
-// and light-area estimators, disk lights on the circle fast path (parallel
-// receiver, parallel disk occluders) and unoccluded sphere, rectangle and
-// triangle lights (light_moments.h); the environment with non-overlapping
+// and light-area estimators, disk lights (any receiver orientation; parallel
+// disk and planar polygon occluders, planar_light.h) and unoccluded sphere,
+// rectangle and triangle lights (light_moments.h); the environment with non-overlapping
 // blockers (spheres, polygons, parallel disks). For light solid-angle
 // sampling, the cone / spherical polygon cases of unoccluded spheres and of
 // polygons (occluders allowed) plus the light-area cases where the renderer
@@ -80,6 +80,9 @@ namespace furnace::analytic {
 //   G(s)/s² = (1 + c + c²)/(3r(r + h)), c = h/r    (uniform hemisphere),
 //   G(s)/s² = (3h⁴ + 3h²s² + s⁴)/(6h²(h²+s²)³)    (light area),
 // (r = √(h² + s²)), both written without the cancelling 1 − (h/r)^k form.
+// A disk light under a tilted receiver (or past polygon occluders): the
+// general planar path, planar_light_cos2_solid_angle and
+// planar_light_area_kernel (contour_area_kernel.h).
 // Light solid angle: Ω in closed form (light_moments.h), the cos² integral
 // as for the uniform hemisphere (spheres unoccluded; polygons by the exact
 // planar path, occluders allowed).

@@ -7,6 +7,7 @@
 
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 
+#include "analytic/contour_area_kernel.h"
 #include "analytic/disk.h"
 #include "analytic/disk_light.h"
 #include "analytic/error_ledger.h"
@@ -332,6 +333,48 @@ double planar_light_cos2_solid_angle(const Scene& scene, size_t light_index, con
   const double result = (std::fabs(sigma) + s * second) / 3;
   ErrorLedger::report(error / 3, result);
   return result;
+}
+
+namespace {
+
+// Whether q lies inside the simple polygon v (crossing number).
+bool inside_polygon(const std::vector<Point2>& v, Point2 q) {
+  bool inside = false;
+  for (size_t i = 0, j = v.size() - 1; i < v.size(); j = i++) {
+    if ((v[i].y > q.y) != (v[j].y > q.y) &&
+        q.x < v[j].x + (v[i].x - v[j].x) * (q.y - v[j].y) / (v[i].y - v[j].y))
+      inside = !inside;
+  }
+  return inside;
+}
+
+bool inside_region(const Region2& region, Point2 q) {
+  if (region.circle) return std::hypot(q.x - region.circle->cx, q.y - region.circle->cy) < region.circle->radius;
+  return inside_polygon(region.polygon, q);
+}
+
+}  // namespace
+
+double planar_light_area_kernel(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
+                                std::optional<size_t> receiver) {
+  const PlanarSetup setup = setup_planar(scene, light_index, p, n, receiver);
+  if (!setup.visible) return 0.0;
+  if (setup.disk && setup.occluders.empty()) {
+    const Vec3 center = setup.disk->center - p;
+    const double R = setup.disk->radius;
+    if (R <= kSmallAngle * (length(center) - R)) return small_disk_area_kernel(center, setup.front, R, n);
+  }
+  const std::vector<Curve2> boundary = exact_visible_boundary(setup.light_region, setup.occluders, setup.keep);
+  if (boundary.empty()) return 0.0;
+  // The foot point F is the origin of the plane coordinates; x − p = F − p + qx·e1 + qy·e2, F − p = −h·front.
+  const Point2 foot{0, 0};
+  bool foot_inside = inside_region(setup.light_region, foot) && (!setup.keep || setup.keep->c >= 0);
+  for (const Region2& o : setup.occluders) foot_inside = foot_inside && !inside_region(o, foot);
+  // Magnitude of the world coordinates the plane coordinates were computed from.
+  const BoundingSphere ball = bounding_sphere(scene.objects[light_index].shape);
+  const double scale = std::fmax(max_abs_component(p), max_abs_component(ball.center) + ball.radius);
+  return contour_area_kernel(boundary, setup.h, -setup.h * dot(n, setup.front), dot(n, setup.frame.s),
+                             dot(n, setup.frame.t), foot_inside, scale);
 }
 
 Scene as_lone_unit_emitter(const Scene& scene, size_t object) {

@@ -56,6 +56,14 @@ double planar_light_irradiance(const Scene& scene, size_t light_index, const Vec
 double planar_light_cos2_solid_angle(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
                                      std::optional<size_t> receiver);
 
+// ∫_visible (cos θ·cos θ'/r²)² dA, m⁻² (the light-area second-moment kernel),
+// for the same configurations, any receiver orientation: a small unoccluded
+// disk (R ≤ kSmallAngle·(distance − R)) by small_disk_area_kernel's product
+// rule (the contour's ray terms would cancel, as for E); everything else by
+// contour_area_kernel over the exact visible boundary.
+double planar_light_area_kernel(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
+                                std::optional<size_t> receiver);
+
 // The object `object` of `scene` alone, as a two-sided emitter of unit
 // radiance: its irradiance and cos² kernel through the functions above are
 // the solid-angle measures of a blocker (a tilted disk hiding the sky).

@@ -56,7 +56,11 @@ double polygon_angular_size(const std::vector<Vec3>& vertices) {
   return distance > 0 ? diameter / distance : INFINITY;
 }
 
-double small_polygon_irradiance(const std::vector<Vec3>& v, const Vec3& n) {
+namespace {
+
+// The fan rule of small_polygon_irradiance for any kernel(x, n, m).
+template <class Kernel>
+double small_polygon_rule(const std::vector<Vec3>& v, const Vec3& n, Kernel kernel) {
   const UnitRule& g = unit_rule();
   const Vec3 m = polygon_normal(v);
   double sum = 0;
@@ -75,7 +79,26 @@ double small_polygon_irradiance(const std::vector<Vec3>& v, const Vec3& n) {
   return sum;
 }
 
-double small_disk_irradiance(const Vec3& center, const Vec3& m, double R, const Vec3& n) {
+}  // namespace
+
+double small_polygon_irradiance(const std::vector<Vec3>& v, const Vec3& n) {
+  return small_polygon_rule(v, n, kernel);
+}
+
+double small_polygon_area_kernel(const std::vector<Vec3>& v, const Vec3& n) {
+  return small_polygon_rule(v, n, [](const Vec3& x, const Vec3& n, const Vec3& m) {
+    const double k = kernel(x, n, m);
+    return k * k;
+  });
+}
+
+namespace {
+
+// ∫ kernel(max(n·x, 0), m·x, |x|²) dA over the lit segment of a disk (centre
+// relative to p, unit normal m, radius R), by the segment map documented at
+// small_disk_irradiance in small_emitter.h.
+template <class Kernel>
+double small_disk_rule(const Vec3& center, const Vec3& m, double R, const Vec3& n, Kernel kernel) {
   using Rule16 = boost::math::quadrature::gauss<double, 16>;
   // In-plane gradient of n·x: n·x = n·c + |g|·β along e2 = g/|g|.
   const Vec3 g = n - m * dot(n, m);
@@ -97,14 +120,28 @@ double small_disk_irradiance(const Vec3& center, const Vec3& m, double R, const 
     const double beta = R * sp, half_chord = R * cp;
     auto over_tau = [&](double tau) {
       const Vec3 x = center + e1 * (tau * half_chord) + e2 * beta;
-      const double r2 = length_squared(x);
       // n·x from its exact decomposition: keeps the grazing side accurate.
-      const double cos_part = std::fmax(n_c + g_len * beta, 0.0);
-      return cos_part * std::fabs(dot(m, x)) / (r2 * r2);
+      return kernel(std::fmax(n_c + g_len * beta, 0.0), dot(m, x), length_squared(x));
     };
     return half_chord * R * cp * Rule16::integrate(over_tau, -1.0, 1.0);
   };
   return Rule16::integrate(over_psi, psi0, kPi / 2);
+}
+
+}  // namespace
+
+double small_disk_irradiance(const Vec3& center, const Vec3& m, double R, const Vec3& n) {
+  return small_disk_rule(center, m, R, n, [](double cos_part, double m_x, double r2) {
+    return cos_part * std::fabs(m_x) / (r2 * r2);
+  });
+}
+
+double small_disk_area_kernel(const Vec3& center, const Vec3& m, double R, const Vec3& n) {
+  return small_disk_rule(center, m, R, n, [](double cos_part, double m_x, double r2) {
+    const double r4 = r2 * r2;
+    const double k = cos_part * m_x / r4;
+    return k * k;
+  });
 }
 
 }  // namespace furnace::analytic

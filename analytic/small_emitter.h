@@ -40,6 +40,12 @@ double polygon_angular_size(const std::vector<Vec3>& vertices);
 // Domain: polygon_angular_size ≤ kSmallAngle.
 double small_polygon_irradiance(const std::vector<Vec3>& vertices, const Vec3& n);
 
+// ∫_P (max(n·x, 0)·|m·x|/|x|⁴)² dA, m⁻² (the light-area second-moment kernel),
+// by the same fan of product rules; same domain and preconditions. The
+// squared kernel has the same singularity (a pole of twice the order), so
+// the rule converges at the same rate with a larger constant.
+double small_polygon_area_kernel(const std::vector<Vec3>& vertices, const Vec3& n);
+
 // E/L = ∫ max(n·x, 0)·|m·x|/|x|⁴ dA over a disk (centre relative to p, unit
 // normal m, radius R), the part below p's horizon cut off exactly: with e2
 // along the in-plane gradient of n·x (any unit vector of the plane when
@@ -49,5 +55,12 @@ double small_polygon_irradiance(const std::vector<Vec3>& vertices, const Vec3& n
 // square-root end points of the chord; 16 × 16 Gauss–Legendre nodes.
 // Domain: R/(|centre| − R) ≤ kSmallAngle.
 double small_disk_irradiance(const Vec3& center, const Vec3& m, double R, const Vec3& n);
+
+// ∫ (max(n·x, 0)·|m·x|/|x|⁴)² dA = ∫_lit (cos θ cos θ'/r²)² dA over the same
+// disk (the light-area second-moment kernel, m⁻²), by the same segment map
+// and rule. The squared kernel has the same singularity (r = 0, now a pole of
+// twice the order), so the rule converges at the same rate, ~ (q/4)^(2N),
+// with a larger constant. Domain: R/(|centre| − R) ≤ kSmallAngle.
+double small_disk_area_kernel(const Vec3& center, const Vec3& m, double R, const Vec3& n);
 
 }  // namespace furnace::analytic
