@@ -35,6 +35,7 @@
 
 #include "core/scene.h"
 #include "tests/command.h"
+#include "tests/verify/export/peer_support.h"
 #include "verify/export/cycles.h"
 #include "verify/export/pbrt_v4.h"
 
@@ -53,22 +54,12 @@ constexpr int kSpp = 128;
 constexpr int kFirstSeed = 1;
 constexpr int kCyclesThreads = 2;
 
-bool is_executable_file(const fs::path& p) { return fs::is_regular_file(p) && ::access(p.c_str(), X_OK) == 0; }
-
 // Blender: FURNACE_BLENDER when set (used as given, so a wrong path fails
 // loudly rather than skipping), else `blender` on PATH.
 std::optional<fs::path> blender_binary() {
   const char* forced = std::getenv("FURNACE_BLENDER");
   if (forced && *forced) return fs::path(forced);
-  const char* path = std::getenv("PATH");
-  const std::string dirs = path ? path : "";
-  for (size_t start = 0; start <= dirs.size();) {
-    const size_t end = std::min(dirs.find(':', start), dirs.size());
-    const fs::path candidate = fs::path(dirs.substr(start, end - start)) / "blender";
-    if (end > start && is_executable_file(candidate)) return candidate;
-    start = end + 1;
-  }
-  return std::nullopt;
+  return peer::find_on_path("blender");
 }
 
 std::string no_blender_message() {
@@ -78,39 +69,14 @@ std::string no_blender_message() {
 
 using testing_support::CommandResult;
 
-CommandResult run(const std::string& command) { return testing_support::run_command(command + " 2>&1"); }
-
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-// The numbers of check's JSON report the peer line prints.
-struct Diagnostics {
-  double worst_pixel_t = NAN;
-  double image_mean_t = NAN;
-  double image_mean_relative_error = NAN;
-  double detectable_relative_bias = NAN;
-  int failed_pixels = -1;
-};
-
-Diagnostics diagnostics(const std::string& check_json) {
-  Diagnostics d;
-  const nlohmann::json j = nlohmann::json::parse(check_json, nullptr, false);
-  if (j.is_discarded() || !j.contains("channels")) return d;
-  auto number = [](const nlohmann::json& v) { return v.is_number() ? v.get<double>() : NAN; };
-  if (!j["worst_pixels"].empty()) d.worst_pixel_t = std::fabs(number(j["worst_pixels"][0]["t"]));
-  if (!j["channels"].empty()) {
-    const nlohmann::json& c = j["channels"][0];
-    d.image_mean_t = number(c["statistic"]);
-    d.image_mean_relative_error = number(c["image_mean"]) / number(c["reference_mean"]) - 1;
-    if (c["pixel_failures"].is_number_integer()) d.failed_pixels = c["pixel_failures"].get<int>();
-  }
-  d.detectable_relative_bias = number(j["detectable_relative_bias"]);
-  return d;
-}
+using peer::camel_case;
+using peer::check_renders;
+using peer::Diagnostics;
+using peer::named;
+using peer::quoted;
+using peer::read_text;
+using peer::run;
+using peer::scene_file;
 
 class CyclesPeer {
  protected:
@@ -138,14 +104,10 @@ class CyclesPeer {
       ADD_FAILURE() << "Blender failed (exit " << r.exit_code << ") on " << script << ":\n" << r.output;
       return -1;
     }
-    std::string image_args;
-    for (int i = 0; i < kRenders; ++i)
-      image_args += " --image " + quoted(dir_ / fmt::format("render_{}.exr", kFirstSeed + i));
-    const fs::path json_file = dir_ / "check.json";
-    const CommandResult check = run(fmt::format("{} check --scene {} --max-depth {} --json {}{}", FURNACE_CLI,
-                                                quoted(scene_file), depth_name(check_depth), quoted(json_file),
-                                                image_args));
-    last_ = diagnostics(read_text(json_file));
+    std::vector<fs::path> images;
+    for (int i = 0; i < kRenders; ++i) images.push_back(dir_ / fmt::format("render_{}.exr", kFirstSeed + i));
+    const peer::CheckRun check = check_renders(scene_file, check_depth, images, dir_ / "check.json");
+    last_ = check.numbers;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("%s", check.output.c_str());
     std::printf("peer: cycles %s K=%d spp=%d check --max-depth %s exit %d, worst pixel |t| %.2f, image-mean t %.2f "
@@ -183,32 +145,9 @@ class CyclesPeer {
 const std::set<std::string> kCostlyScenes = {"enclosure_box_rho99"};
 
 std::vector<std::string> exportable_scenes() {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(FURNACE_SCENE_DIR)) {
-    const std::string name = entry.path().stem().string();
-    if (entry.path().extension() != ".json" || (kCostlyScenes.count(name) > 0) != bool(FURNACE_PEER_COSTLY_SCENES))
-      continue;
-    if (!cycles_refusal(load_scene(entry.path()))) names.push_back(name);
-  }
-  std::sort(names.begin(), names.end());
-  return names;
+  return peer::exportable_scenes([](const Scene& s) { return !cycles_refusal(s); }, kCostlyScenes,
+                                 bool(FURNACE_PEER_COSTLY_SCENES));
 }
-
-std::string camel_case(const std::string& snake) {
-  std::string out;
-  bool upper = true;
-  for (char c : snake) {
-    if (c == '_') {
-      upper = true;
-      continue;
-    }
-    out += upper ? char(std::toupper(static_cast<unsigned char>(c))) : c;
-    upper = false;
-  }
-  return out;
-}
-
-fs::path scene_file(const std::string& name) { return fs::path(FURNACE_SCENE_DIR) / (name + ".json"); }
 
 class CyclesPeerScene : public CyclesPeer, public testing::TestWithParam<std::string> {
  protected:
@@ -338,12 +277,6 @@ struct Control {
 };
 
 void PrintTo(const Control& c, std::ostream* os) { *os << c.name << " (" << c.scene << ")"; }
-
-Object& named(Scene& scene, const std::string& name) {
-  for (Object& o : scene.objects)
-    if (o.name == name) return o;
-  throw std::runtime_error("no object '" + name + "' in scene '" + scene.name + "'");
-}
 
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
   const size_t at = text.find(from);

@@ -33,6 +33,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/command.h"
+#include "tests/verify/export/peer_support.h"
 #include "core/exr.h"
 #include "core/scene.h"
 #include "verify/export/pbrt_v4.h"
@@ -56,8 +57,6 @@ constexpr int kFirstSeed = 1;
 // light reaches the eye after at most one bounce and the two agree.
 constexpr int kPbrtThreads = 2;
 
-bool is_executable_file(const fs::path& p) { return fs::is_regular_file(p) && ::access(p.c_str(), X_OK) == 0; }
-
 // The pbrt-v4 binary: FURNACE_PBRT when set (used as given, so a wrong path
 // fails loudly rather than skipping), else the shared peer build next to the
 // repository (../shared/peers/pbrt-v4/pbrt), else `pbrt` on PATH.
@@ -65,16 +64,8 @@ std::optional<fs::path> pbrt_binary() {
   const char* forced = std::getenv("FURNACE_PBRT");
   if (forced && *forced) return fs::path(forced);
   const fs::path shared = fs::path(FURNACE_SCENE_DIR).parent_path().parent_path() / "shared/peers/pbrt-v4/pbrt";
-  if (is_executable_file(shared)) return shared;
-  const char* path = std::getenv("PATH");
-  std::string dirs = path ? path : "";
-  for (size_t start = 0; start <= dirs.size();) {
-    const size_t end = std::min(dirs.find(':', start), dirs.size());
-    const fs::path candidate = fs::path(dirs.substr(start, end - start)) / "pbrt";
-    if (end > start && is_executable_file(candidate)) return candidate;
-    start = end + 1;
-  }
-  return std::nullopt;
+  if (peer::is_executable_file(shared)) return shared;
+  return peer::find_on_path("pbrt");
 }
 
 // The skip message: what was looked for, so a user can tell why.
@@ -83,12 +74,15 @@ std::string no_pbrt_message() {
                      (fs::path(FURNACE_SCENE_DIR).parent_path().parent_path() / "shared/peers/pbrt-v4/pbrt").string());
 }
 
+using peer::camel_case;
+using peer::check_renders;
+using peer::Diagnostics;
+using peer::named;
+using peer::quoted;
+using peer::read_text;
+using peer::run;
+using peer::scene_file;
 using testing_support::CommandResult;
-
-// `command` with its stdout and stderr captured.
-CommandResult run(const std::string& command) { return testing_support::run_command(command + " 2>&1"); }
-
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
 // Rewrites an EXR mirrored left to right, every channel (and attribute) kept.
 void flip_horizontally(const fs::path& path) {
@@ -97,30 +91,6 @@ void flip_horizontally(const fs::path& path) {
   for (auto& [name, values] : image.floats)
     for (size_t row = 0; row < values.size(); row += w) std::reverse(values.begin() + row, values.begin() + row + w);
   exr::write(path, image, "mirrored pbrt render");
-}
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-// The numbers of check's JSON report the peer line prints: the largest |t|
-// over the pixels, the image-mean t and the detectable relative bias.
-struct Diagnostics {
-  double worst_pixel_t = NAN;
-  double image_mean_t = NAN;
-  double detectable_relative_bias = NAN;
-};
-
-Diagnostics diagnostics(const std::string& check_json) {
-  Diagnostics d;
-  const nlohmann::json j = nlohmann::json::parse(check_json, nullptr, false);
-  if (j.is_discarded() || !j.contains("channels")) return d;
-  auto number = [](const nlohmann::json& v) { return v.is_number() ? v.get<double>() : NAN; };
-  if (!j["worst_pixels"].empty()) d.worst_pixel_t = std::fabs(number(j["worst_pixels"][0]["t"]));
-  if (!j["channels"].empty()) d.image_mean_t = number(j["channels"][0]["statistic"]);
-  d.detectable_relative_bias = number(j["detectable_relative_bias"]);
-  return d;
 }
 
 class PbrtPeer {
@@ -138,7 +108,6 @@ class PbrtPeer {
     const fs::path pbrt_file = dir_ / "scene.pbrt";
     write_pbrt_v4(scene_for_export, options, pbrt_file);
     std::vector<fs::path> images;
-    std::string image_args;
     for (int i = 0; i < kRenders; ++i) {
       const fs::path image = dir_ / fmt::format("render_{}.exr", i);
       const CommandResult r = run(fmt::format("{} --quiet --nthreads {} --seed {} --outfile {} {}", quoted(*pbrt_),
@@ -149,13 +118,9 @@ class PbrtPeer {
       }
       if (flip) flip_horizontally(image);
       images.push_back(image);
-      image_args += " --image " + quoted(image);
     }
-    const fs::path json_file = dir_ / "check.json";
-    const CommandResult check = run(fmt::format("{} check --scene {} --max-depth {} --json {}{}", FURNACE_CLI,
-                                                quoted(scene_file), depth_name(check_depth), quoted(json_file),
-                                                image_args));
-    const Diagnostics d = diagnostics(read_text(json_file));
+    const peer::CheckRun check = check_renders(scene_file, check_depth, images, dir_ / "check.json");
+    const Diagnostics& d = check.numbers;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("%s", check.output.c_str());
     std::printf("peer: %s K=%d spp=%d check --max-depth %s exit %d, worst pixel |t| %.2f, image-mean t %.2f, detectable bias %.3g%%, "
@@ -192,32 +157,9 @@ const std::set<std::string> kCostlyScenes = {"enclosure_box_rho99"};
 
 // The exportable built-in scenes of this binary: the costly ones or the rest.
 std::vector<std::string> exportable_scenes() {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(FURNACE_SCENE_DIR)) {
-    const std::string name = entry.path().stem().string();
-    if (entry.path().extension() != ".json" || (kCostlyScenes.count(name) > 0) != bool(FURNACE_PEER_COSTLY_SCENES))
-      continue;
-    if (!pbrt_v4_refusal(load_scene(entry.path()))) names.push_back(name);
-  }
-  std::sort(names.begin(), names.end());
-  return names;
+  return peer::exportable_scenes([](const Scene& s) { return !pbrt_v4_refusal(s); }, kCostlyScenes,
+                                 bool(FURNACE_PEER_COSTLY_SCENES));
 }
-
-std::string camel_case(const std::string& snake) {
-  std::string out;
-  bool upper = true;
-  for (char c : snake) {
-    if (c == '_') {
-      upper = true;
-      continue;
-    }
-    out += upper ? char(std::toupper(static_cast<unsigned char>(c))) : c;
-    upper = false;
-  }
-  return out;
-}
-
-fs::path scene_file(const std::string& name) { return fs::path(FURNACE_SCENE_DIR) / (name + ".json"); }
 
 class PbrtPeerScene : public PbrtPeer, public testing::TestWithParam<std::string> {
  protected:
@@ -272,12 +214,6 @@ struct Control {
 };
 
 void PrintTo(const Control& c, std::ostream* os) { *os << c.name << " (" << c.scene << ")"; }
-
-Object& named(Scene& scene, const std::string& name) {
-  for (Object& o : scene.objects)
-    if (o.name == name) return o;
-  throw std::runtime_error("no object '" + name + "' in scene '" + scene.name + "'");
-}
 
 std::vector<Control> controls() {
   return {

@@ -1,0 +1,144 @@
+// What the peer tests (pbrt_peer_test.cpp, cycles_peer_test.cpp) share:
+// finding a peer renderer's binary, running commands, `furnace check` on K
+// renders with the numbers of its JSON report, and the built-in scenes an
+// exporter can express. Needs FURNACE_SCENE_DIR and FURNACE_CLI defined.
+#pragma once
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "core/scene.h"
+#include "core/strategy.h"
+#include "tests/command.h"
+
+namespace furnace::exporter::peer {
+
+namespace fs = std::filesystem;
+
+inline bool is_executable_file(const fs::path& p) { return fs::is_regular_file(p) && ::access(p.c_str(), X_OK) == 0; }
+
+// The first executable `name` in a directory of PATH.
+inline std::optional<fs::path> find_on_path(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  const std::string dirs = path ? path : "";
+  for (size_t start = 0; start <= dirs.size();) {
+    const size_t end = std::min(dirs.find(':', start), dirs.size());
+    const fs::path candidate = fs::path(dirs.substr(start, end - start)) / name;
+    if (end > start && is_executable_file(candidate)) return candidate;
+    start = end + 1;
+  }
+  return std::nullopt;
+}
+
+// `command` with its stdout and stderr captured.
+inline testing_support::CommandResult run(const std::string& command) {
+  return testing_support::run_command(command + " 2>&1");
+}
+
+inline std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+
+inline std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// The numbers of check's JSON report a peer line prints: the largest |t|
+// over the pixels, the image-mean t and relative error, the detectable
+// relative bias and the failed pixels (NaN or −1 when the report has none).
+struct Diagnostics {
+  double worst_pixel_t = NAN;
+  double image_mean_t = NAN;
+  double image_mean_relative_error = NAN;
+  double detectable_relative_bias = NAN;
+  int failed_pixels = -1;
+};
+
+inline Diagnostics diagnostics(const std::string& check_json) {
+  Diagnostics d;
+  const nlohmann::json j = nlohmann::json::parse(check_json, nullptr, false);
+  if (j.is_discarded() || !j.contains("channels")) return d;
+  auto number = [](const nlohmann::json& v) { return v.is_number() ? v.get<double>() : NAN; };
+  if (!j["worst_pixels"].empty()) d.worst_pixel_t = std::fabs(number(j["worst_pixels"][0]["t"]));
+  if (!j["channels"].empty()) {
+    const nlohmann::json& c = j["channels"][0];
+    d.image_mean_t = number(c["statistic"]);
+    d.image_mean_relative_error = number(c["image_mean"]) / number(c["reference_mean"]) - 1;
+    if (c["pixel_failures"].is_number_integer()) d.failed_pixels = c["pixel_failures"].get<int>();
+  }
+  d.detectable_relative_bias = number(j["detectable_relative_bias"]);
+  return d;
+}
+
+// One `furnace check` of renders against a scene file's reference.
+struct CheckRun {
+  int exit_code = -1;
+  std::string output;  // check's report
+  Diagnostics numbers;
+};
+
+// Runs `furnace check --scene scene_file --max-depth check_depth` on
+// `images`, its JSON report written to `json_file`.
+inline CheckRun check_renders(const fs::path& scene_file, int check_depth, const std::vector<fs::path>& images,
+                              const fs::path& json_file) {
+  std::string image_args;
+  for (const fs::path& image : images) image_args += " --image " + quoted(image);
+  const testing_support::CommandResult check =
+      run(fmt::format("{} check --scene {} --max-depth {} --json {}{}", FURNACE_CLI, quoted(scene_file),
+                      depth_name(check_depth), quoted(json_file), image_args));
+  return {check.exit_code, check.output, diagnostics(read_text(json_file))};
+}
+
+inline fs::path scene_file(const std::string& name) { return fs::path(FURNACE_SCENE_DIR) / (name + ".json"); }
+
+// The built-in scenes `exportable` accepts, sorted: the `costly` ones when
+// `costly_binary`, else the rest (the costly scenes run under label slow).
+inline std::vector<std::string> exportable_scenes(const std::function<bool(const Scene&)>& exportable,
+                                                  const std::set<std::string>& costly, bool costly_binary) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(FURNACE_SCENE_DIR)) {
+    const std::string name = entry.path().stem().string();
+    if (entry.path().extension() != ".json" || (costly.count(name) > 0) != costly_binary) continue;
+    if (exportable(load_scene(entry.path()))) names.push_back(name);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// A scene name as a test name: near_contact → NearContact.
+inline std::string camel_case(const std::string& snake) {
+  std::string out;
+  bool upper = true;
+  for (char c : snake) {
+    if (c == '_') {
+      upper = true;
+      continue;
+    }
+    out += upper ? char(std::toupper(static_cast<unsigned char>(c))) : c;
+    upper = false;
+  }
+  return out;
+}
+
+inline Object& named(Scene& scene, const std::string& name) {
+  for (Object& o : scene.objects)
+    if (o.name == name) return o;
+  throw std::runtime_error("no object '" + name + "' in scene '" + scene.name + "'");
+}
+
+}  // namespace furnace::exporter::peer
