@@ -4,10 +4,10 @@
 #include <cmath>
 #include <limits>
 
-#include <boost/math/quadrature/gauss.hpp>
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 
 #include "analytic/error_ledger.h"
+#include "analytic/polygon_patch.h"
 #include "core/adaptive_quadrature.h"
 #include "core/vec3.h"
 
@@ -23,27 +23,6 @@ constexpr double kContourAreaTolerance = 1e-14;
 constexpr int kContourAreaDepth = 40;
 constexpr size_t kContourAreaBisections = 2000;
 
-using Rule20 = boost::math::quadrature::gauss<double, 20>;
-
-// ∫_0^T sin²t·cos⁴t dt and ∫_0^T sin⁴t·cos²t dt, T ∈ [0, π/2]: the closed
-// forms cancel for small T (the values are ~ T³/3 and ~ T⁵/5); every node's
-// term is ≥ 0.
-double sin2_cos4_integral(double T) {
-  return Rule20::integrate(
-      [](double t) {
-        const double s = std::sin(t), c = std::cos(t);
-        return s * s * c * c * c * c;
-      },
-      0.0, T);
-}
-double sin4_cos2_integral(double T) {
-  return Rule20::integrate(
-      [](double t) {
-        const double s = std::sin(t), c = std::cos(t);
-        return s * s * s * s * c * c;
-      },
-      0.0, T);
-}
 
 // Distance from the origin F to a boundary piece.
 double distance_to_piece(const Curve2& c) {
@@ -85,11 +64,11 @@ double contour_area_kernel(const std::vector<Curve2>& boundary, double h, double
       const double i1 = (W * W + W * h2 + h2 * h2) / (6 * h2 * h2 * W3);  // I1/ρ²
       const double i3 = (rho2 + 3 * h2) / (12 * h2 * W3);                 // I3/ρ⁴
       // I2/ρ³ = J2(T)/(h³ρ³) → 1/(3h⁶) as ρ → 0 (J2 ~ T³/3).
-      const double i2 = rho > 0 ? sin2_cos4_integral(std::atan2(rho, h)) / (h3 * rho2 * rho) : 1 / (3 * h3 * h3);
+      const double i2 = rho > 0 ? sin_cos_power_integral(2, 4, std::atan2(rho, h)) / (h3 * rho2 * rho) : 1 / (3 * h3 * h3);
       return a * a * i1 + 2 * a * cq * i2 + cq * cq * i3;
     }
     const double t1 = h2 / (6 * W3);
-    const double t2 = sin4_cos2_integral(std::atan2(h, rho)) / h3;
+    const double t2 = sin_cos_power_integral(4, 2, std::atan2(h, rho)) / h3;
     const double t3 = h2 * (h2 + 3 * rho2) / (12 * W3);
     return -(a * a * t1 + 2 * a * (cq / rho) * t2 + (cq / rho) * (cq / rho) * t3) / rho2;
   };
@@ -128,36 +107,28 @@ double contour_area_kernel(const std::vector<Curve2>& boundary, double h, double
   };
   for (const Curve2& c : boundary) {
     if (!c.is_arc) {
-      const double ax = c.start.x, ay = c.start.y, bx = c.end.x, by = c.end.y;
-      const double ex = bx - ax, ey = by - ay, len = std::hypot(ex, ey);
-      if (!(len > 0)) continue;
-      const double d0 = (ax * ey - ay * ex) / len;  // > 0: counter-clockwise about F
-      if (d0 == 0) continue;                        // the line passes through F: dφ = 0
-      const double sign = d0 > 0 ? 1 : -1;
-      const double px = sign * ey / len, py = -sign * ex / len, tx = ex / len, ty = ey / len;
-      const double dist = std::fabs(d0);
-      const double psi_a = std::atan2(ax * tx + ay * ty, dist), psi_b = std::atan2(bx * tx + by * ty, dist);
+      const std::optional<EdgeAboutFoot> e = edge_about_foot(c.start.x, c.start.y, c.end.x, c.end.y);
+      if (!e) continue;  // no length, or on a line through F: dφ = 0
+      const double dist = e->dist;
       // dφ = ±dψ along the segment: the integrand is the radial term itself.
       auto g = [&](double psi) {
-        const double along = dist * std::tan(psi);
-        const double qx = px * dist + tx * along, qy = py * dist + ty * along;
+        const double qx = e->x(psi), qy = e->y(psi);
         return radial_over_rho2(qx, qy) * (qx * qx + qy * qy);
       };
       // Cuts at the perpendicular's foot (ψ = 0) and, for a line closer to F
       // than h, where the ray reaches ρ = h (cos ψ = dist/h): the radial term
       // rises over a ψ-range of width ~ dist/h next to each of those.
-      std::vector<double> cuts = {std::fmin(psi_a, psi_b), std::fmax(psi_a, psi_b), 0.0};
+      std::vector<double> cuts = {std::fmin(e->psi_a, e->psi_b), std::fmax(e->psi_a, e->psi_b), 0.0};
       if (dist < h) {
         const double psi_h = std::acos(dist / h);
         cuts.push_back(psi_h);
         cuts.push_back(-psi_h);
       }
       auto f_ds = [&](double psi) {
-        const double cp = std::cos(psi), along = dist * std::tan(psi);
-        return kernel_at(px * dist + tx * along, py * dist + ty * along) * dist / (cp * cp);
+        const double cp = std::cos(psi);
+        return kernel_at(e->x(psi), e->y(psi)) * dist / (cp * cp);
       };
-      const double value = integrate_pieces(g, cuts, f_ds);
-      sum += (psi_b >= psi_a) == (d0 > 0) ? value : -value;  // dφ = sign(d0)·dψ along the edge
+      sum += e->oriented(integrate_pieces(g, cuts, f_ds));
       continue;
     }
     const Circle2& k = c.circle;

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 
-#include <boost/math/quadrature/gauss.hpp>
 #include <boost/math/quadrature/tanh_sinh.hpp>
 
 #include "analytic/error_ledger.h"
@@ -116,19 +115,6 @@ double polygon_solid_angle_green(const std::vector<Vec3>& v) {
   return std::fmax(enclosed - boundary, 0.0);
 }
 
-// ∫_0^T sin⁴t·cos²t dt by 20-point Gauss–Legendre: the closed form cancels
-// for small T (the result is ~ T⁵/5); the integrand is a trigonometric
-// polynomial of degree 6, which a 20-point rule on T ≤ π/2 integrates to far
-// below ε, every node's term ≥ 0.
-double sin4_cos2_integral(double T) {
-  return boost::math::quadrature::gauss<double, 20>::integrate(
-      [](double t) {
-        const double s = std::sin(t), c = std::cos(t);
-        return s * s * s * s * c * c;
-      },
-      0.0, T);
-}
-
 // Target and caps of the edge integrals of polygon_area_kernel: relative
 // tolerance 1e-14 of the first estimate, 30 levels, 2000 bisections per edge
 // (a bounded cost; what is not reached is reported to the ledger).
@@ -217,7 +203,7 @@ double polygon_area_kernel(const std::vector<Vec3>& vertices, const Vec3& n) {
     const double W = h2 + rho2, W3 = W * W * W;
     const double t1 = h2 / (6 * W3);
     const double t3 = h2 * (h2 + 3 * rho2) / (12 * W3);
-    const double t2 = sin4_cos2_integral(std::atan2(h, rho)) / (h2 * h);
+    const double t2 = sin_cos_power_integral(4, 2, std::atan2(h, rho)) / (h2 * h);
     if (rho == 0) return a * a * t1;  // c is undefined at F, but c·t2, c²·t3 are bounded there: measure zero
     const double c = (n1 * qx + n2 * qy) / rho;
     return a * a * t1 + 2 * a * c * t2 + c * c * t3;
