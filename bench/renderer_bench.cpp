@@ -140,8 +140,8 @@ uint64_t replay_exact(const EmbreeScene& scene, const std::vector<TracedRay>& ra
     uint64_t local = 0;
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const TracedRay& ray = rays[i];
-      if (ray.shadow) local += scene.occluded(ray.origin, ray.direction, ray.t_max);
-      else local += scene.intersect(ray.origin, ray.direction, ray.t_max).has_value();
+      if (ray.shadow) local += scene.occluded(ray.origin, ray.direction, ray.t_max, ray.ends);
+      else local += scene.intersect(ray.origin, ray.direction, ray.t_max, ray.ends).has_value();
     }
     hits += local;
   });
@@ -235,7 +235,7 @@ const std::vector<RawRay>& synthetic_rays() {
       const Vec3 origin{4 * rng.next_double() - 2, 4 * rng.next_double() - 2, 1e-6};
       const auto d = sample_uniform_disk_concentric(rng.next_double(), rng.next_double());
       const Vec3 to = Vec3{0.75 * d[0], 0.75 * d[1], 2.0} - origin;
-      traced.push_back({origin, normalize(to), length(to), true});
+      traced.push_back({origin, normalize(to), length(to), true, {}});
     }
     return to_embree_rays(traced);
   }();

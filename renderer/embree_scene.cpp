@@ -1,6 +1,9 @@
 #include "renderer/embree_scene.h"
 
+#include <algorithm>
 #include <cmath>
+#include <initializer_list>
+#include <utility>
 #include <limits>
 #include <mutex>
 
@@ -18,6 +21,16 @@ namespace {
 // or sampled on it are within a few), and far below any gap between two
 // distinct objects that the scenes or the statistical tests could resolve.
 constexpr double kOnSurfaceRelative = 0x1.0p-36;
+// Two objects count as touching when one's shape comes this close to the
+// other's exact surface, relative to their coordinates' magnitude: far above
+// kOnSurfaceRelative and the single-precision error of an Embree hit (~2⁻²³),
+// so a ray leaving one object can start on the other's surface only if the
+// two touch. Generous on purpose: touching costs one on_surface test per ray.
+constexpr double kTouchRelative = 0x1.0p-16;
+// Objects 0…30 own one bit of Embree's 32-bit ray mask; all others share bit
+// 31, so only the first 31 can be excluded from a query by the mask.
+constexpr size_t kOwnMaskBits = 31;
+unsigned mask_bit(size_t object) { return 1u << std::min(object, kOwnMaskBits); }
 
 const char* error_name(RTCError code) {
   switch (code) {
@@ -105,6 +118,53 @@ RTCGeometry make_geometry(RTCDevice device, const Shape& shape) {
     }
   };
   return std::visit(Visitor{device}, shape);
+}
+
+// [lo, hi] bounds the signed distance of the shape's points to the plane.
+struct Interval {
+  double lo, hi;
+};
+Interval signed_distances(const Shape& shape, const Vec3& q, const Vec3& n) {
+  const auto of = [&](std::initializer_list<Vec3> points) {
+    Interval r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+    for (const Vec3& p : points) {
+      r.lo = std::fmin(r.lo, dot(p - q, n));
+      r.hi = std::fmax(r.hi, dot(p - q, n));
+    }
+    return r;
+  };
+  return std::visit(
+      overloaded{[&](const Rectangle& r) { return of({r.corner, r.corner + r.edge_u, r.corner + r.edge_v,
+                                                      r.corner + r.edge_u + r.edge_v}); },
+                 [&](const Triangle& t) { return of({t.p0, t.p1, t.p2}); },
+                 [&](const Disk& d) {
+                   const double c = dot(d.center - q, n), cos_angle = dot(d.normal, n);
+                   const double reach = d.radius * std::sqrt(std::fmax(0.0, 1.0 - cos_angle * cos_angle));
+                   return Interval{c - reach, c + reach};
+                 },
+                 [&](const Sphere& s) {
+                   const double c = dot(s.center - q, n);
+                   return Interval{c - s.radius, c + s.radius};
+                 }},
+      shape);
+}
+
+// A sphere that holds the shape: its centre and radius.
+std::pair<Vec3, double> bounding_sphere(const Shape& shape) {
+  const auto of = [](std::initializer_list<Vec3> points) {
+    Vec3 c;
+    for (const Vec3& p : points) c += p / double(points.size());
+    double r = 0;
+    for (const Vec3& p : points) r = std::fmax(r, length(p - c));
+    return std::pair{c, r};
+  };
+  return std::visit(
+      overloaded{[&](const Rectangle& r) { return of({r.corner, r.corner + r.edge_u, r.corner + r.edge_v,
+                                                      r.corner + r.edge_u + r.edge_v}); },
+                 [&](const Triangle& t) { return of({t.p0, t.p1, t.p2}); },
+                 [](const Disk& d) { return std::pair{d.center, d.radius}; },
+                 [](const Sphere& s) { return std::pair{s.center, s.radius}; }},
+      shape);
 }
 
 // The exact surface a shape's hits are refined against: its plane (a point
@@ -195,18 +255,39 @@ EmbreeScene::EmbreeScene(const EmbreeDevice& device, const Scene& scene, Endpoin
     : device_(device), scene_(scene), endpoint_filter_(endpoint_filter) {
   rtc_scene_ = rtcNewScene(device.get());
   // Robust mode: watertight traversal, so rays through shared quad edges are not lost.
-  rtcSetSceneFlags(rtc_scene_, RTC_SCENE_FLAG_ROBUST);
+  // The exact endpoint filter is a context filter, installed per query only
+  // when the ray mask cannot exclude the endpoint surfaces (endpoint_mask).
+  rtcSetSceneFlags(rtc_scene_, endpoint_filter == EndpointFilter::kExactEndpoints
+                                   ? RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION
+                                   : RTC_SCENE_FLAG_ROBUST);
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     RTCGeometry geom = make_geometry(device.get(), scene.objects[i].shape);
-    if (endpoint_filter == EndpointFilter::kExactEndpoints) {
-      rtcSetGeometryIntersectFilterFunction(geom, &EmbreeScene::filter);
-      rtcSetGeometryOccludedFilterFunction(geom, &EmbreeScene::filter);
-    }
+    rtcSetGeometryMask(geom, mask_bit(i));
     rtcCommitGeometry(geom);
     rtcAttachGeometryByID(rtc_scene_, geom, static_cast<unsigned>(i));  // geomID == object index
     rtcReleaseGeometry(geom);
     object_extent_.push_back(extent_of(scene.objects[i].shape));
     surface_.push_back(exact_surface(scene.objects[i].shape));
+  }
+  touching_.resize(scene.objects.size());
+  for (size_t a = 0; a < scene.objects.size(); ++a) {
+    const Shape& shape = scene.objects[a].shape;
+    for (size_t b = 0; b < scene.objects.size(); ++b) {
+      if (b == a) continue;
+      const double margin = kTouchRelative * (object_extent_[a] + object_extent_[b]);
+      const bool touches = std::visit(
+          overloaded{[&](const Plane& plane) {
+                       const Interval d = signed_distances(shape, plane.point, plane.normal);
+                       return d.lo <= margin && d.hi >= -margin;
+                     },
+                     [&](const Sphere& s) {
+                       const auto [centre, radius] = bounding_sphere(shape);
+                       const double d = length(centre - s.center);
+                       return std::fmax(0.0, d - radius) <= s.radius + margin && d + radius >= s.radius - margin;
+                     }},
+          surface_[b]);
+      if (touches) touching_[a].push_back(b);
+    }
   }
   rtcCommitScene(rtc_scene_);
   try {
@@ -221,11 +302,50 @@ EmbreeScene::~EmbreeScene() {
   if (rtc_scene_) rtcReleaseScene(rtc_scene_);
 }
 
-std::optional<SurfaceHit> EmbreeScene::intersect(const Vec3& origin, const Vec3& direction, double t_max) const {
-  if (ray_log_) ray_log_->push_back({origin, direction, t_max, false});
+std::optional<unsigned> EmbreeScene::endpoint_mask(const RayQuery& query, const RayEnds& ends) const {
+  if (endpoint_filter_ != EndpointFilter::kExactEndpoints) return ~0u;
+  unsigned mask = ~0u;
+  // Excludes every object filter() would reject because `x` (the origin, or
+  // the end of a segment) lies on its surface: `object` and those of the
+  // objects touching it whose surface holds x. Objects that do not touch
+  // `object` cannot hold a point of it (kTouchRelative). False when `x` is
+  // not on `object` (the hint does not hold), or when a rejection depends on
+  // the candidate's distance (a ray entering a sphere from its surface meets
+  // it again at the chord's far end) or an object has no mask bit of its own.
+  const auto exclude_surfaces_through = [&](size_t object, const Vec3& x, bool is_origin) {
+    if (object >= surface_.size() || !on_surface(object, x)) return false;
+    const auto exclude = [&](size_t b) {
+      const Sphere* s = std::get_if<Sphere>(&surface_[b]);
+      if (is_origin && s && dot(query.origin - s->center, query.direction) < 0) return false;
+      if (b >= kOwnMaskBits) return false;
+      mask &= ~mask_bit(b);
+      return true;
+    };
+    if (!exclude(object)) return false;
+    for (size_t b : touching_[object])
+      if (on_surface(b, x) && !exclude(b)) return false;
+    return true;
+  };
+  if (!exclude_surfaces_through(ends.origin_object, query.origin, true)) return std::nullopt;
+  if (query.segment && !exclude_surfaces_through(ends.end_object, query.end, false)) return std::nullopt;
+  return mask;
+}
+
+void EmbreeScene::prepare(RayQuery& query, RTCRay& ray, const RayEnds& ends) const {
+  if (const std::optional<unsigned> mask = endpoint_mask(query, ends)) {
+    ray.mask = *mask;
+  } else {
+    query.context.filter = &EmbreeScene::filter;  // the exact test on every candidate hit
+  }
+}
+
+std::optional<SurfaceHit> EmbreeScene::intersect(const Vec3& origin, const Vec3& direction, double t_max,
+                                                 const RayEnds& ends) const {
+  if (ray_log_) ray_log_->push_back({origin, direction, t_max, false, ends});
   RayQuery query(this, origin, direction, t_max);
   RTCRayHit rayhit;
   rayhit.ray = make_ray(origin, direction, t_max);
+  prepare(query, rayhit.ray, ends);
   rayhit.hit.Ng_x = rayhit.hit.Ng_y = rayhit.hit.Ng_z = 0.0f;
   rayhit.hit.u = rayhit.hit.v = 0.0f;
   rayhit.hit.primID = RTC_INVALID_GEOMETRY_ID;
@@ -236,10 +356,11 @@ std::optional<SurfaceHit> EmbreeScene::intersect(const Vec3& origin, const Vec3&
   return refine(rayhit.hit.geomID, origin, direction, rayhit.ray.tfar);
 }
 
-bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, double t_max) const {
-  if (ray_log_) ray_log_->push_back({origin, direction, t_max, true});
+bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, double t_max, const RayEnds& ends) const {
+  if (ray_log_) ray_log_->push_back({origin, direction, t_max, true, ends});
   RayQuery query(this, origin, direction, t_max);
   RTCRay ray = make_ray(origin, direction, t_max);
+  prepare(query, ray, ends);
   rtcOccluded1(rtc_scene_, &query.context, &ray);
   return ray.tfar == -std::numeric_limits<float>::infinity();
 }

@@ -5,11 +5,16 @@
 // Embree intersects in single precision; every hit is refined in double
 // precision against the exact shape (plane or sphere) before shading. Rays
 // leave a surface from the exact surface point, not from an offset origin:
-// intersection filter functions reject the surface a ray starts on (and the
-// one a shadow ray ends on) by an exact test in double precision, so no
-// epsilon scaled by the coordinates' magnitude moves the ray (an offset of
-// 32 float ulps of |p| would bias scenes far from the origin by several
-// percent; tests/integration/stability_test.cpp renders such scenes).
+// the surface a ray starts on (and the one a shadow ray ends on) is rejected
+// by an exact test in double precision, so no epsilon scaled by the
+// coordinates' magnitude moves the ray (an offset of 32 float ulps of |p|
+// would bias scenes far from the origin by several percent;
+// tests/integration/stability_test.cpp renders such scenes). Where the
+// caller names the objects a ray starts and ends on (RayEnds) and no other
+// surface passes through those points, the test is made once per query and
+// Embree's ray mask excludes the rejected objects; otherwise an intersection
+// filter (a context filter function) makes it on every candidate hit. Both
+// give the same result, bit for bit (tests/renderer/embree_scene_test.cpp).
 #pragma once
 
 #include <cstddef>
@@ -56,12 +61,24 @@ struct SurfaceHit {
   bool front_facing = false;  // the ray arrived on the front side: dot(direction, normal) < 0
 };
 
+// The objects a query's ray starts and ends on, as the caller knows them (a
+// shading point's object, a light sample's emitter). A hint never changes a
+// result: the query checks that the origin (end) lies on the named object and
+// otherwise ignores the hint. It lets the query exclude the endpoint surfaces
+// by Embree's ray mask instead of a filter callback on every candidate hit.
+struct RayEnds {
+  static constexpr size_t kNone = std::numeric_limits<size_t>::max();
+  size_t origin_object = kNone;
+  size_t end_object = kNone;  // for a finite segment only
+};
+
 // A ray as the renderer asked Embree for it, recorded for benchmarks that
 // replay the same rays through Embree alone (bench/renderer_bench.cpp).
 struct TracedRay {
   Vec3 origin, direction;
   double t_max = 0;     // +inf for an intersection query without a bound
   bool shadow = false;  // an occlusion query (rtcOccluded1), else rtcIntersect1
+  RayEnds ends;
 };
 
 // Whether the scene rejects the surfaces a ray starts and ends on (see the
@@ -81,15 +98,16 @@ class EmbreeScene {
 
   // First hit with t in (0, t_max]. `direction` must be unit, `origin` finite.
   std::optional<SurfaceHit> intersect(const Vec3& origin, const Vec3& direction,
-                                      double t_max = std::numeric_limits<double>::infinity()) const;
+                                      double t_max = std::numeric_limits<double>::infinity(),
+                                      const RayEnds& ends = {}) const;
   // True if anything lies on the open segment origin + t·direction, t in (0, t_max).
-  bool occluded(const Vec3& origin, const Vec3& direction, double t_max) const;
+  bool occluded(const Vec3& origin, const Vec3& direction, double t_max, const RayEnds& ends = {}) const;
 
   const Scene& scene() const { return scene_; }
-  // The committed Embree scene, for raw-throughput benchmarks only. Its
-  // filter functions (EndpointFilter::kExactEndpoints) read the query behind
-  // the context intersect() and occluded() pass: a plain RTCIntersectContext
-  // is only valid on a scene built with EndpointFilter::kNone.
+  // The committed Embree scene, for raw-throughput benchmarks only: a plain
+  // RTCIntersectContext sees no endpoint filter, so it is meant for a scene
+  // built with EndpointFilter::kNone. Object i has the ray-mask bit
+  // 1 << min(i, 31).
   RTCScene rtc_scene() const { return rtc_scene_; }
   EndpointFilter endpoint_filter() const { return endpoint_filter_; }
 
@@ -112,6 +130,11 @@ class EmbreeScene {
   bool is_endpoint_surface(size_t object, const RayQuery& query, double t_candidate) const;
   bool on_surface(size_t object, const Vec3& x) const;
   static void filter(const RTCFilterFunctionNArguments* args);
+  // The ray mask that excludes exactly the surfaces filter() would reject for
+  // this query, or nothing when only the filter can decide (embree_scene.cpp).
+  std::optional<unsigned> endpoint_mask(const RayQuery& query, const RayEnds& ends) const;
+  // Sets the ray's mask, or installs filter() on the query's context.
+  void prepare(RayQuery& query, RTCRay& ray, const RayEnds& ends) const;
 
   const EmbreeDevice& device_;
   const Scene& scene_;
@@ -120,6 +143,10 @@ class EmbreeScene {
   std::vector<TracedRay>* ray_log_ = nullptr;
   std::vector<double> object_extent_;  // largest |coordinate| of each object's bounding box
   std::vector<ExactSurface> surface_;  // each object's exact surface, computed once
+  // touching_[i]: the other objects whose exact surface comes near object i's
+  // shape (coplanar, meeting at an edge, resting on it); only these can
+  // contain a point a ray leaves object i from.
+  std::vector<std::vector<size_t>> touching_;
 };
 
 }  // namespace furnace

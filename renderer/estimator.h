@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 
 #include <array>
@@ -104,7 +105,8 @@ inline Vec3 ray_origin(const Vec3& point, const Vec3& normal, const Vec3& direct
 inline std::optional<SurfaceHit> trace_from(const EmbreeScene& scene, const ShadingContext& ctx, const Vec3& wi_world,
                                             TraceCounters& counters, Defect defect = Defect::kNone) {
   ++counters.rays;
-  return scene.intersect(ray_origin(ctx.point, ctx.normal, wi_world, defect), wi_world);
+  return scene.intersect(ray_origin(ctx.point, ctx.normal, wi_world, defect), wi_world,
+                         std::numeric_limits<double>::infinity(), RayEnds{ctx.object, RayEnds::kNone});
 }
 
 // MIS weight of strategy a against b (one sample each), β = 1 (balance) or 2 (power).

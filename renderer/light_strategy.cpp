@@ -182,6 +182,7 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     s.shadow_t_max = length(segment);
     if (!(s.shadow_t_max > 0)) return std::nullopt;
     s.shadow_direction = segment / s.shadow_t_max;
+    s.shadow_ends = RayEnds{ctx.object, RayEnds::kNone};  // no object to name for the end: the filter decides
     const Vec3 wi_local = ctx.frame.local_from_world(s.wi_world);
     s.weight = ctx.bsdf.eval(ctx.wo_local, wi_local) * std::fmax(wi_local.z, 0.0) / pmf_in_weight;
     s.assume_visible = defect == Defect::kSkipShadowRay;  // DEFECT(skip_shadow_ray)
@@ -207,6 +208,7 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     s.shadow_origin = ray_origin(ctx.point, ctx.normal, s.wi_world, defect);  // DEFECT(ray_offset_1e4) inside
     s.shadow_direction = s.wi_world;
     s.shadow_t_max = std::numeric_limits<double>::infinity();
+    s.shadow_ends = RayEnds{ctx.object, RayEnds::kNone};
     pdf_for_weight = pmf_in_weight * environment_pdf;
   } else {
     const size_t object = lights->emitters[light];
@@ -235,6 +237,7 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     const Vec3 segment = q->point - s.shadow_origin;
     s.shadow_t_max = length(segment);
     s.shadow_direction = segment / s.shadow_t_max;
+    s.shadow_ends = RayEnds{ctx.object, object};
   }
   if (!(s.pdf_solid_angle > 0)) return std::nullopt;  // back of a one-sided light, or a grazing point
   const Vec3 wi_local = ctx.frame.local_from_world(s.wi_world);
@@ -271,7 +274,7 @@ double delta_light_mis_weight(const LightSample& s, double p_bsdf, Defect defect
 bool light_visible(const EmbreeScene& scene, const LightSample& s, TraceCounters& counters) {
   if (s.assume_visible) return true;  // DEFECT(skip_shadow_ray)
   ++counters.rays;
-  return !scene.occluded(s.shadow_origin, s.shadow_direction, s.shadow_t_max);
+  return !scene.occluded(s.shadow_origin, s.shadow_direction, s.shadow_t_max, s.shadow_ends);
 }
 
 }  // namespace furnace

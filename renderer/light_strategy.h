@@ -31,6 +31,7 @@ struct LightSample {
   Vec3 shadow_origin;
   Vec3 shadow_direction;       // unit
   double shadow_t_max = 0;     // +inf for the environment
+  RayEnds shadow_ends;         // the shading point's object and the emitter's
   bool assume_visible = false;  // only DEFECT(skip_shadow_ray) sets it
 };
 
