@@ -1,7 +1,10 @@
 #include "analytic/moments.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <tuple>
+#include <type_traits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -197,20 +200,21 @@ double heuristic(double a, double b, int beta) {
   return x / (x + y);
 }
 
-// Integrand of term k at a direction with cos θ > 0 and light density p_l
-// (selection included); cosine density p_b = cos θ/π.
-double mis_integrand(int k, double cos_theta, double p_light, int beta) {
+// The integrands at a direction with cos θ > 0 and light density p_l
+// (selection included); cosine density p_b = cos θ/π. Multi-sample MIS:
+// the terms of E[Y_b²], E[Y_l²], E[Y_b], E[Y_l]; one-sample MIS: E[Y²].
+using MultiSampleValues = std::array<double, 4>;
+using OneSampleValues = std::array<double, 1>;
+MultiSampleValues multi_sample_integrands(double cos_theta, double p_light, int beta) {
   const double p_bsdf = cos_theta * kInvPi;
-  switch (k) {
-    case 0: { const double w = heuristic(p_bsdf, p_light, beta); return w * w * cos_theta * cos_theta / p_bsdf; }
-    case 1: { const double w = heuristic(p_light, p_bsdf, beta); return w * w * cos_theta * cos_theta / p_light; }
-    case 2: return heuristic(p_bsdf, p_light, beta) * cos_theta;
-    case 3: return heuristic(p_light, p_bsdf, beta) * cos_theta;
-    default: {
-      const double q = kOneSampleBsdfProbability * p_bsdf + (1 - kOneSampleBsdfProbability) * p_light;
-      return q > 0 ? cos_theta * cos_theta / q : 0.0;
-    }
-  }
+  const double w_b = heuristic(p_bsdf, p_light, beta), w_l = heuristic(p_light, p_bsdf, beta);
+  return {w_b * w_b * cos_theta * cos_theta / p_bsdf, w_l * w_l * cos_theta * cos_theta / p_light, w_b * cos_theta,
+          w_l * cos_theta};
+}
+OneSampleValues one_sample_integrand(double cos_theta, double p_light) {
+  const double p_bsdf = cos_theta * kInvPi;
+  const double q = kOneSampleBsdfProbability * p_bsdf + (1 - kOneSampleBsdfProbability) * p_light;
+  return {q > 0 ? cos_theta * cos_theta / q : 0.0};
 }
 
 // The φ-arcs of [0, 2π) on which A + B cos φ + C sin φ > 0.
@@ -227,7 +231,7 @@ constexpr int kMisQuadratureDepth = 15;
 // A polygon's MIS terms (polygon_direction_integral: smooth integrands in
 // the plane's spherical coordinates) to 1e-13, at most 20 bisections per
 // edge and 6 per ray: at most 1,271 rays of 403 evaluations per edge, a
-// bounded cost (~0.2 s for the five terms of a rectangle when every cap is
+// bounded cost, each evaluation serving all the terms integrated together, when every cap is
 // reached); the error reached is reported to the ErrorLedger.
 constexpr double kMisPolygonTolerance = 1e-13;
 constexpr size_t kMisOuterBisections = 20;
@@ -235,31 +239,39 @@ constexpr size_t kMisInnerBisections = 6;
 
 // ∫ g(cos θ, p_light) dω over a family of rings: outer u ∈ [u0, u1] (split
 // at `kinks`, where the horizon starts to cut the rings), inner φ over the
-// arcs where cos θ = A + B cos φ + C sin φ > 0 (ring.coefficients); ring.at
-// gives cos θ, p_light and the measure dω/(du dφ) at (u, φ). Gauss–Kronrod
+// arcs where cos θ = A + B cos φ + C sin φ > 0 (ring.coefficients); ring.row(u)
+// holds what depends on u alone, and ring.at(row, φ) gives cos θ, p_light and
+// the measure dω/(du dφ) at (u, φ). Gauss–Kronrod
 // (31 points), adaptive (core/adaptive_quadrature.h: Boost's own recursion never
 // terminates on the tiny intervals of a far sphere's cone), relative
 // tolerance kMisQuadratureTolerance.
 // The error reached (the outer estimate plus the worst inner relative
 // estimate times the result) is reported to the open ErrorLedger.
-template <class Ring, class Integrand>
-double ring_integral(double u0, double u1, const std::vector<double>& kinks, Ring ring, Integrand g) {
-  double worst_inner = 0, outer_error = 0;
+template <class Ring, class Integrand, class V = std::invoke_result_t<const Integrand&, double, double>>
+V ring_integral(double u0, double u1, const std::vector<double>& kinks, Ring ring, Integrand g) {
+  constexpr size_t N = std::tuple_size_v<V>;
+  V worst_inner{}, outer_error{};
   auto outer = [&](double u) {
     double A, B, C;
     ring.coefficients(u, &A, &B, &C);
-    double sum = 0;
+    const auto row = ring.row(u);  // what depends on u alone, once per ring
+    V sum{};
     for (const auto& [lo, hi] : positive_arcs(A, B, C)) {
       auto inner = [&](double phi) {
         double cos_theta, p_light, measure;
-        ring.at(u, phi, &cos_theta, &p_light, &measure);
-        return cos_theta > 0 ? g(cos_theta, p_light) * measure : 0.0;
+        ring.at(row, phi, &cos_theta, &p_light, &measure);
+        if (!(cos_theta > 0)) return V{};
+        V value = g(cos_theta, p_light);
+        for (double& component : value) component *= measure;
+        return value;
       };
-      double error = 0;
-      const double value = adaptive_gauss_kronrod_relative(inner, lo, hi, kMisQuadratureTolerance, kMisQuadratureDepth,
-                                                           1, kUnlimitedBisections, &error);
-      if (value != 0) worst_inner = std::fmax(worst_inner, std::fabs(error / value));
-      sum += value;
+      V error{};
+      const V value = adaptive_gauss_kronrod_relative_components(inner, lo, hi, kMisQuadratureTolerance,
+                                                                 kMisQuadratureDepth, 1, kUnlimitedBisections, &error);
+      for (size_t c = 0; c < N; ++c) {
+        if (value[c] != 0) worst_inner[c] = std::fmax(worst_inner[c], std::fabs(error[c] / value[c]));
+        sum[c] += value[c];
+      }
     }
     return sum;
   };
@@ -267,11 +279,14 @@ double ring_integral(double u0, double u1, const std::vector<double>& kinks, Rin
   for (double k : kinks)
     if (k > u0 && k < u1) cuts.push_back(k);
   std::sort(cuts.begin(), cuts.end());
-  double total = 0;
-  for (size_t i = 0; i + 1 < cuts.size(); ++i)
-    total += adaptive_gauss_kronrod_relative(outer, cuts[i], cuts[i + 1], kMisQuadratureTolerance, kMisQuadratureDepth,
-                                             1, kUnlimitedBisections, &outer_error);
-  ErrorLedger::report(outer_error + worst_inner * std::fabs(total), total);
+  V total{};
+  for (size_t i = 0; i + 1 < cuts.size(); ++i) {
+    const V value = adaptive_gauss_kronrod_relative_components(outer, cuts[i], cuts[i + 1], kMisQuadratureTolerance,
+                                                               kMisQuadratureDepth, 1, kUnlimitedBisections,
+                                                               &outer_error);
+    for (size_t c = 0; c < N; ++c) total[c] += value[c];
+  }
+  for (size_t c = 0; c < N; ++c) ErrorLedger::report(outer_error[c] + worst_inner[c] * std::fabs(total[c]), total[c]);
   return total;
 }
 
@@ -287,11 +302,15 @@ struct SphereRings {
     *B = std::sin(gamma) * dot(n, frame.s);
     *C = std::sin(gamma) * dot(n, frame.t);
   }
-  void at(double gamma, double psi, double* cos_theta, double* p, double* measure) const {
-    *cos_theta = std::cos(gamma) * dot(n, frame.n) +
-                 std::sin(gamma) * (std::cos(psi) * dot(n, frame.s) + std::sin(psi) * dot(n, frame.t));
+  struct Row {
+    double cos_gamma, sin_gamma;
+  };
+  Row row(double gamma) const { return {std::cos(gamma), std::sin(gamma)}; }
+  void at(const Row& ring, double psi, double* cos_theta, double* p, double* measure) const {
+    *cos_theta = ring.cos_gamma * dot(n, frame.n) +
+                 ring.sin_gamma * (std::cos(psi) * dot(n, frame.s) + std::sin(psi) * dot(n, frame.t));
     *p = p_light;
-    *measure = std::sin(gamma);
+    *measure = ring.sin_gamma;
   }
 };
 
@@ -305,6 +324,7 @@ struct DiskRings {
     *B = rho * dot(n, e1);
     *C = rho * dot(n, e2);
   }
+  double row(double rho) const { return rho; }
   void at(double rho, double phi, double* cos_theta, double* p, double* measure) const {
     const Vec3 x = center + e1 * (rho * std::cos(phi)) + e2 * (rho * std::sin(phi));
     const double r2 = length_squared(x), r = std::sqrt(r2);
@@ -321,16 +341,15 @@ struct DiskRings {
 // In the polygon plane's own spherical coordinates (polygon_direction_integral):
 // at a direction with cos θ' = cos t the hit point is at r = h/cos t, so the
 // area density in solid angle is pmf·r²/(A cos θ') = pmf·h²/(A cos³t).
-template <class Integrand>
-double patch_integral_mis(const std::vector<Vec3>& v, const Vec3& n, double pmf, double omega, double area,
-                          Integrand g) {
+template <class Integrand, class V = std::invoke_result_t<const Integrand&, double, double>>
+V patch_integral_mis(const std::vector<Vec3>& v, const Vec3& n, double pmf, double omega, double area, Integrand g) {
   const Vec3 m = normalize(cross(v[1] - v[0], v[2] - v[0]));
   const double h = std::fabs(dot(m, v[0]));
   return polygon_direction_integral(v, n, kMisPolygonTolerance, kMisQuadratureDepth, kMisOuterBisections,
                                     kMisInnerBisections,
                                     [&](const Vec3& u, double cos_light) {
                                       const double cos_theta = dot(n, u);
-                                      if (!(cos_theta > 0) || !(cos_light > 0)) return 0.0;
+                                      if (!(cos_theta > 0) || !(cos_light > 0)) return V{};
                                       const double p_light =
                                           omega > 0 ? pmf / omega
                                                     : pmf * h * h / (area * cos_light * cos_light * cos_light);
@@ -338,55 +357,70 @@ double patch_integral_mis(const std::vector<Vec3>& v, const Vec3& n, double pmf,
                                     });
 }
 
-// The MIS terms of emitter i (unoccluded) per unit radiance.
+// The integrals g returns (per unit radiance) over emitter i's directions (unoccluded).
+template <class Integrand, class V = std::invoke_result_t<const Integrand&, double, double>>
+V mis_emitter_integrals(const Scene& scene, size_t i, const Vec3& p, const Vec3& n, std::optional<size_t> receiver,
+                        double pmf, Integrand g) {
+  if (emitter_irradiance(scene, i, p, n, receiver) == 0) return V{};  // nothing of it reaches p
+  require_unoccluded(scene, i, p, n, receiver);
+  const Object& object = scene.objects[i];
+  // Rectangles and triangles: the renderer's choice of method (as for
+  // kLightSolidAngle); `perpendicular`: a triangle, or a rectangle whose
+  // spherical map the renderer uses.
+  auto polygon_integrals = [&](const std::vector<Vec3>& vertices, bool perpendicular) {
+    double omega = perpendicular ? polygon_solid_angle(vertices) : 0.0;
+    if (!(omega >= kMinSampledSolidAngle)) omega = 0;  // area sampling
+    return patch_integral_mis(vertices, n, pmf, omega, shape_area(object.shape), g);
+  };
+  return std::visit(
+      overloaded{
+          [&](const Sphere& sphere) {
+            const Vec3 center = sphere.center - p;
+            const double D = length(center);
+            if (!(D > sphere.radius))
+              unsupported_configuration(scene, "a receiving point on or inside the sphere light '" + object.name +
+                                                   "' (for the MIS second moment)");
+            const double alpha = std::asin(sphere.radius / D);
+            const SphereRings rings{Frame::from_normal(center / D), n, pmf / sphere_solid_angle(D, sphere.radius)};
+            // Kink where the horizon starts to cut the rings: γ = |π/2 − β|.
+            const double beta_angle = std::atan2(length(cross(n, center)), dot(n, center));
+            return ring_integral(0.0, alpha, {std::fabs(kPi / 2 - beta_angle)}, rings, g);
+          },
+          [&](const Disk& d) {
+            const Frame f = Frame::from_normal(d.normal);
+            const DiskRings rings{d.center - p, f.s, f.t, d.normal, n, pmf, d.area()};
+            // Kinks in ρ where the horizon starts cutting the rings: |A| = ρ·M.
+            const double A = dot(n, d.center - p), M = std::hypot(dot(n, f.s), dot(n, f.t));
+            std::vector<double> kinks;
+            if (M > 0) kinks.push_back(std::fabs(A) / M);
+            return ring_integral(0.0, d.radius, kinks, rings, g);
+          },
+          [&](const Rectangle& r) {
+            const double lu = length(r.edge_u), lv = length(r.edge_v);
+            return polygon_integrals(polygon_vertices_relative(r, p),
+                                     std::fabs(dot(r.edge_u, r.edge_v)) <= kPerpendicularTolerance * lu * lv);
+          },
+          [&](const Triangle& t) { return polygon_integrals(polygon_vertices_relative(t, p), true); }},
+      object.shape);
+}
+
+// The MIS terms of emitter i (unoccluded) per unit radiance: the four of
+// multi-sample MIS (beta 1 or 2) or the one of one-sample MIS (beta 0),
+// integrated together over the same directions.
 MisTerms mis_emitter_terms(const Scene& scene, size_t i, const Vec3& p, const Vec3& n,
                            std::optional<size_t> receiver, double pmf, int beta) {
   MisTerms terms;
-  if (emitter_irradiance(scene, i, p, n, receiver) == 0) return terms;  // nothing of it reaches p
-  require_unoccluded(scene, i, p, n, receiver);
-  const Object& object = scene.objects[i];
-  double* out[5] = {&terms.bsdf2, &terms.light2, &terms.bsdf1, &terms.light1, &terms.one_sample2};
-  for (int k = 0; k < 5; ++k) {
-    auto g = [k, beta](double cos_theta, double p_light) { return mis_integrand(k, cos_theta, p_light, beta); };
-    // Rectangles and triangles: the renderer's choice of method (as for
-    // kLightSolidAngle); `perpendicular`: a triangle, or a rectangle whose
-    // spherical map the renderer uses.
-    auto polygon_terms = [&](const std::vector<Vec3>& vertices, bool perpendicular) {
-      double omega = perpendicular ? polygon_solid_angle(vertices) : 0.0;
-      if (!(omega >= kMinSampledSolidAngle)) omega = 0;  // area sampling
-      return patch_integral_mis(vertices, n, pmf, omega, shape_area(object.shape), g);
-    };
-    *out[k] = std::visit(
-        overloaded{
-            [&](const Sphere& sphere) {
-              const Vec3 center = sphere.center - p;
-              const double D = length(center);
-              if (!(D > sphere.radius))
-                unsupported_configuration(scene, "a receiving point on or inside the sphere light '" + object.name +
-                                                     "' (for the MIS second moment)");
-              const double alpha = std::asin(sphere.radius / D);
-              const SphereRings rings{Frame::from_normal(center / D), n, pmf / sphere_solid_angle(D, sphere.radius)};
-              // Kink where the horizon starts to cut the rings: γ = |π/2 − β|.
-              const double beta_angle = std::atan2(length(cross(n, center)), dot(n, center));
-              return ring_integral(0.0, alpha, {std::fabs(kPi / 2 - beta_angle)}, rings, g);
-            },
-            [&](const Disk& d) {
-              const Frame f = Frame::from_normal(d.normal);
-              const DiskRings rings{d.center - p, f.s, f.t, d.normal, n, pmf, d.area()};
-              // Kinks in ρ where the horizon starts cutting the rings: |A| = ρ·M.
-              const double A = dot(n, d.center - p), M = std::hypot(dot(n, f.s), dot(n, f.t));
-              std::vector<double> kinks;
-              if (M > 0) kinks.push_back(std::fabs(A) / M);
-              return ring_integral(0.0, d.radius, kinks, rings, g);
-            },
-            [&](const Rectangle& r) {
-              const double lu = length(r.edge_u), lv = length(r.edge_v);
-              return polygon_terms(polygon_vertices_relative(r, p),
-                                   std::fabs(dot(r.edge_u, r.edge_v)) <= kPerpendicularTolerance * lu * lv);
-            },
-            [&](const Triangle& t) { return polygon_terms(polygon_vertices_relative(t, p), true); }},
-        object.shape);
+  if (beta == 0) {
+    terms.one_sample2 = mis_emitter_integrals(scene, i, p, n, receiver, pmf, [](double cos_theta, double p_light) {
+                          return one_sample_integrand(cos_theta, p_light);
+                        })[0];
+    return terms;
   }
+  const MultiSampleValues v =
+      mis_emitter_integrals(scene, i, p, n, receiver, pmf, [beta](double cos_theta, double p_light) {
+        return multi_sample_integrands(cos_theta, p_light, beta);
+      });
+  terms.bsdf2 = v[0], terms.light2 = v[1], terms.bsdf1 = v[2], terms.light1 = v[3];
   return terms;
 }
 
@@ -405,7 +439,7 @@ double mis_second_moment(const Scene& scene, const Vec3& p, const Vec3& n, std::
     const double pmf_i = pmf[light++];
     if (receiver && i == *receiver) continue;
     const double le = object.emitted_radiance;
-    const MisTerms t = mis_emitter_terms(scene, i, p, n, receiver, pmf_i, beta == 0 ? 1 : beta);
+    const MisTerms t = mis_emitter_terms(scene, i, p, n, receiver, pmf_i, beta);
     bsdf2 += le * le * t.bsdf2, light2 += le * le * t.light2;
     bsdf1 += le * t.bsdf1, light1 += le * t.light1;
     one_sample2 += le * le * t.one_sample2;

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <tuple>
+#include <type_traits>
 #include <vector>
 
 #include <boost/math/quadrature/gauss.hpp>
@@ -99,25 +101,29 @@ inline bool foot_point_outside_convex(const std::vector<double>& qx, const std::
 // `inner_bisections` per ray, so at most (2·outer + 1)·31 rays per edge of at
 // most (2·inner + 1)·31 evaluations each (nested caps multiply). The error reached (the outer estimate plus the worst inner
 // relative estimate times the result) is reported to the open ErrorLedger.
+// f returns a std::array<double, N>: N integrands sharing each direction,
+// integrated together (adaptive_gauss_kronrod_relative_components), each to
+// its own tolerance and each reported to the ledger.
 // f is called only with directions above the plane's near side; it must
 // handle the receiver's horizon itself (return 0 where n·u ≤ 0).
-template <class F>
-double polygon_direction_integral(const std::vector<Vec3>& vertices, const Vec3& n, double rel_tolerance, int depth,
-                                  size_t outer_bisections, size_t inner_bisections, F f) {
+template <class F, class V = std::invoke_result_t<const F&, const Vec3&, double>>
+V polygon_direction_integral(const std::vector<Vec3>& vertices, const Vec3& n, double rel_tolerance, int depth,
+                             size_t outer_bisections, size_t inner_bisections, F f) {
+  constexpr size_t N = std::tuple_size_v<V>;
   const std::vector<Vec3> v = clip_to_hemisphere(vertices, n);
   const size_t count = v.size();
-  if (count < 3) return 0.0;
+  if (count < 3) return V{};
   const Vec3 m = polygon_normal(v);
   const double signed_h = dot(m, v[0]);
   const double h = std::fabs(signed_h);
-  if (!(h > 0)) return 0.0;  // p in the plane: the polygon subtends no solid angle
+  if (!(h > 0)) return V{};  // p in the plane: the polygon subtends no solid angle
   const Vec3 axis = signed_h > 0 ? m : -m;  // from p towards the plane
   const Frame frame = Frame::from_normal(axis);
   std::vector<double> qx(count), qy(count);
   for (size_t i = 0; i < count; ++i) qx[i] = dot(v[i], frame.s), qy[i] = dot(v[i], frame.t);
   const bool outside = foot_point_outside_convex(qx, qy);
   const double n_axis = dot(n, axis), n1 = dot(n, frame.s), n2 = dot(n, frame.t);
-  double worst_inner = 0, outer_error = 0;
+  V worst_inner{}, outer_error{};
   // ∫ f sin t dt over [0, T] (inside) or [T, π/2] (outside) at azimuth (cφ, sφ),
   // split where n·u = cos t·(n·axis) + sin t·c crosses 0. The outside range
   // is integrated in s = π/2 − t ∈ [0, atan2(h, ρ)] (cos t = sin s), since
@@ -128,8 +134,12 @@ double polygon_direction_integral(const std::vector<Vec3>& vertices, const Vec3&
     const Vec3 w = frame.s * c_phi + frame.t * s_phi;
     // x: t itself (inside) or s = π/2 − t (outside).
     auto g = [&](double x) {
-      const double ct = outside ? std::sin(x) : std::cos(x), st = outside ? std::cos(x) : std::sin(x);
-      return f(axis * ct + w * st, ct) * st;
+      // Both of sin x and cos x, unconditionally: the compiler makes them one sincos call.
+      const double sin_x = std::sin(x), cos_x = std::cos(x);
+      const double ct = outside ? sin_x : cos_x, st = outside ? cos_x : sin_x;
+      V value = f(axis * ct + w * st, ct);
+      for (double& component : value) component *= st;
+      return value;
     };
     const double hi = outside ? std::atan2(h, rho) : std::atan2(rho, h);
     // n·u = 0 at t = atan2(−n·axis, c), i.e. s = atan2(−c, n·axis) (mod π).
@@ -138,14 +148,18 @@ double polygon_direction_integral(const std::vector<Vec3>& vertices, const Vec3&
     int k = 2;
     for (double x : {x_h, x_h + kPi, x_h - kPi})
       if (x > 0 && x < hi) cuts[1] = x, k = 3;
-    double sum = 0, error = 0;
+    V sum{}, error{};
     for (int i = 0; i + 1 < k; ++i)
-      if (cuts[i + 1] > cuts[i])
-        sum += adaptive_gauss_kronrod_relative(g, cuts[i], cuts[i + 1], rel_tolerance, depth, 1, inner_bisections, &error);
-    if (sum != 0) worst_inner = std::fmax(worst_inner, std::fabs(error / sum));
+      if (cuts[i + 1] > cuts[i]) {
+        const V piece = adaptive_gauss_kronrod_relative_components(g, cuts[i], cuts[i + 1], rel_tolerance, depth, 1,
+                                                                   inner_bisections, &error);
+        for (size_t j = 0; j < N; ++j) sum[j] += piece[j];
+      }
+    for (size_t j = 0; j < N; ++j)
+      if (sum[j] != 0) worst_inner[j] = std::fmax(worst_inner[j], std::fabs(error[j] / sum[j]));
     return sum;
   };
-  double total = 0;
+  V total{};
   for (size_t i = 0; i < count; ++i) {
     const size_t j = (i + 1) % count;
     const double ax = qx[i], ay = qy[i], bx = qx[j], by = qy[j];
@@ -156,13 +170,16 @@ double polygon_direction_integral(const std::vector<Vec3>& vertices, const Vec3&
       const double rho = std::hypot(x, y);
       return ray(x / rho, y / rho, rho);
     };
-    const double value = adaptive_gauss_kronrod_relative(edge, std::fmin(e->psi_a, e->psi_b),
-                                                         std::fmax(e->psi_a, e->psi_b), rel_tolerance, depth, 1,
-                                                         outer_bisections, &outer_error);
-    total += e->oriented(value);
+    const V value = adaptive_gauss_kronrod_relative_components(edge, std::fmin(e->psi_a, e->psi_b),
+                                                               std::fmax(e->psi_a, e->psi_b), rel_tolerance, depth, 1,
+                                                               outer_bisections, &outer_error);
+    for (size_t c = 0; c < N; ++c) total[c] += e->oriented(value[c]);
   }
-  const double result = std::fabs(total);
-  ErrorLedger::report(outer_error + worst_inner * result, result);
+  V result;
+  for (size_t c = 0; c < N; ++c) {
+    result[c] = std::fabs(total[c]);
+    ErrorLedger::report(outer_error[c] + worst_inner[c] * result[c], result[c]);
+  }
   return result;
 }
 

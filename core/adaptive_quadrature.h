@@ -20,10 +20,16 @@
 // bisections are capped.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
+#include <tuple>
+#include <type_traits>
 
+#include <boost/math/quadrature/gauss.hpp>
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <boost/math/quadrature/tanh_sinh.hpp>
 
@@ -85,6 +91,105 @@ double adaptive_gauss_kronrod_relative(const F& f, double a, double b, double re
   double sum = 0;
   for (int i = 0; i < initial_pieces; ++i)
     sum += adaptive_gauss_kronrod<Points>(f, edge(i), edge(i + 1), abs_tolerance, depth, cap, error_sum);
+  return sum;
+}
+
+// The same for an integrand of N components (f returns std::array<double, N>),
+// integrated together: one set of nodes serves every component (an integrand
+// whose components share their costly part, such as the geometry of a
+// direction, pays for it once), and a piece is bisected until every component
+// meets its own share of the tolerance, so each gets at least the pieces it
+// would have asked for alone unless the bisection cap runs out first. Each
+// component's rule is Boost's gauss_kronrod<double, Points> on it alone, to
+// the bit, error estimate included (tests/core/adaptive_quadrature_test.cpp).
+template <unsigned Points, class F, class V = std::invoke_result_t<const F&, double>>
+V gauss_kronrod_rule(const F& f, double a, double b, V* error) {
+  using Kronrod = boost::math::quadrature::gauss_kronrod<double, Points>;
+  using Gauss = boost::math::quadrature::gauss<double, (Points - 1) / 2>;
+  static_assert(((Points - 1) / 2) % 2 == 1, "the Gauss rule's order is odd, so 0 is one of its nodes");
+  constexpr size_t N = std::tuple_size_v<V>;
+  if (a == b) {  // as Boost: nothing, no error
+    error->fill(0.0);
+    return V{};
+  }
+  if (b < a) {
+    V value = gauss_kronrod_rule<Points>(f, b, a, error);
+    for (double& v : value) v = -v;
+    return value;
+  }
+  const auto& x = Kronrod::abscissa();
+  const auto& wk = Kronrod::weights();
+  const auto& wg = Gauss::weights();
+  // As Boost's integrate(f, a, b, 0): f(scale·x + mean) on [−1, 1], scaled.
+  const double mean = (b + a) / 2, scale = (b - a) / 2;
+  V kronrod{}, gauss{};
+  const V f0 = f(scale * 0.0 + mean);
+  for (size_t c = 0; c < N; ++c) kronrod[c] = f0[c] * wk[0], gauss[c] += f0[c] * wg[0];
+  for (size_t i = 2; i < x.size(); i += 2) {
+    const V fp = f(scale * x[i] + mean), fm = f(scale * -x[i] + mean);
+    for (size_t c = 0; c < N; ++c) kronrod[c] += (fp[c] + fm[c]) * wk[i], gauss[c] += (fp[c] + fm[c]) * wg[i / 2];
+  }
+  for (size_t i = 1; i < x.size(); i += 2) {
+    const V fp = f(scale * x[i] + mean), fm = f(scale * -x[i] + mean);
+    for (size_t c = 0; c < N; ++c) kronrod[c] += (fp[c] + fm[c]) * wk[i];
+  }
+  V value;
+  for (size_t c = 0; c < N; ++c) {
+    (*error)[c] = std::max(std::fabs(kronrod[c] - gauss[c]),
+                           std::fabs(kronrod[c] * std::numeric_limits<double>::epsilon() * 2));
+    value[c] = scale * kronrod[c];
+  }
+  return value;
+}
+
+template <unsigned Points = kDefaultKronrodPoints, class F, class V = std::invoke_result_t<const F&, double>>
+V adaptive_gauss_kronrod_components(const F& f, double a, double b, const V& abs_tolerance, int depth,
+                                    size_t* bisections_left = nullptr, V* error_sum = nullptr) {
+  constexpr size_t N = std::tuple_size_v<V>;
+  V error;
+  const V value = gauss_kronrod_rule<Points>(f, a, b, &error);
+  bool met = true;
+  for (size_t c = 0; c < N; ++c) met = met && error[c] * (b - a) / 2 <= abs_tolerance[c];
+  if (met || depth == 0 || (bisections_left != nullptr && *bisections_left == 0)) {
+    if (error_sum != nullptr)
+      for (size_t c = 0; c < N; ++c) (*error_sum)[c] += error[c] * (b - a) / 2;
+    return value;
+  }
+  if (bisections_left != nullptr) --*bisections_left;
+  const double mid = (a + b) / 2;
+  V half = abs_tolerance;
+  for (double& t : half) t /= 2;
+  const V left = adaptive_gauss_kronrod_components<Points>(f, a, mid, half, depth - 1, bisections_left, error_sum);
+  const V right = adaptive_gauss_kronrod_components<Points>(f, mid, b, half, depth - 1, bisections_left, error_sum);
+  V sum;
+  for (size_t c = 0; c < N; ++c) sum[c] = left[c] + right[c];
+  return sum;
+}
+
+// adaptive_gauss_kronrod_relative for N components: each component's
+// tolerance is relative to its own first estimate.
+template <unsigned Points = kDefaultKronrodPoints, class F, class V = std::invoke_result_t<const F&, double>>
+V adaptive_gauss_kronrod_relative_components(const F& f, double a, double b, double rel_tolerance, int depth,
+                                             int initial_pieces = 1, size_t max_bisections = kUnlimitedBisections,
+                                             V* error_sum = nullptr) {
+  constexpr size_t N = std::tuple_size_v<V>;
+  const auto edge = [&](int i) { return i == initial_pieces ? b : a + (b - a) * i / initial_pieces; };
+  V first{};
+  for (int i = 0; i < initial_pieces; ++i) {
+    V error;
+    const V piece = gauss_kronrod_rule<Points>(f, edge(i), edge(i + 1), &error);
+    for (size_t c = 0; c < N; ++c) first[c] += piece[c];
+  }
+  V abs_tolerance;
+  for (size_t c = 0; c < N; ++c) abs_tolerance[c] = rel_tolerance * std::fabs(first[c]) / initial_pieces;
+  size_t bisections_left = max_bisections;
+  size_t* cap = max_bisections == kUnlimitedBisections ? nullptr : &bisections_left;
+  V sum{};
+  for (int i = 0; i < initial_pieces; ++i) {
+    const V piece =
+        adaptive_gauss_kronrod_components<Points>(f, edge(i), edge(i + 1), abs_tolerance, depth, cap, error_sum);
+    for (size_t c = 0; c < N; ++c) sum[c] += piece[c];
+  }
   return sum;
 }
 

@@ -4,9 +4,11 @@
 // form with one initial piece equal to the absolute form at its tolerance.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <utility>
 
 #include <boost/math/constants/constants.hpp>
 
@@ -115,6 +117,62 @@ TEST(TanhSinhIntegral, ShortIntervalsKeepPrecisionAndAnHonestError) {
       EXPECT_GT(std::fabs(boost_value - exact), 1e-12 * exact);  // the dropped end slivers
       EXPECT_GT(boost_error, 1e-9 * exact);                       // not in the integral's units
     }
+  }
+}
+
+// The N-component form: with one component it is the scalar form to the
+// bit (its rule is Boost's, value and error estimate alike, and the same
+// pieces are bisected), and with several each component is at least as
+// accurate as alone, on integrands that need different pieces.
+TEST(AdaptiveGaussKronrodComponents, OneComponentIsTheScalarFormToTheBit) {
+  const auto smooth = [](double x) { return std::exp(-3 * x) * std::cos(7 * x); };
+  const auto kink = [](double x) { return std::fabs(x - 0.3137); };
+  const auto jump = [](double x) { return x < 0.61 ? 1.0 : 2.5; };
+  for (int which = 0; which < 3; ++which) {
+    const auto f = [&](double x) { return which == 0 ? smooth(x) : which == 1 ? kink(x) : jump(x); };
+    for (const auto& [a, b] : {std::pair{0.0, 1.0}, std::pair{-2.0, 3.5}, std::pair{0.2, 0.2 + 1e-9}}) {
+      for (size_t cap : {kUnlimitedBisections, size_t(3)}) {
+        for (int pieces : {1, 3}) {
+          double error = 0;
+          const double scalar = adaptive_gauss_kronrod_relative(f, a, b, 1e-11, 30, pieces, cap, &error);
+          std::array<double, 1> error1{};
+          const std::array<double, 1> vector = adaptive_gauss_kronrod_relative_components(
+              [&](double x) { return std::array<double, 1>{f(x)}; }, a, b, 1e-11, 30, pieces, cap, &error1);
+          EXPECT_EQ(scalar, vector[0]) << which << " [" << a << ", " << b << "] cap " << cap << " pieces " << pieces;
+          EXPECT_EQ(error, error1[0]) << which << " [" << a << ", " << b << "] cap " << cap << " pieces " << pieces;
+        }
+      }
+    }
+  }
+  // Degenerate and reversed intervals, as Boost's rule.
+  std::array<double, 1> error{};
+  EXPECT_EQ((gauss_kronrod_rule<31>([](double) { return std::array<double, 1>{1.0}; }, 2.0, 2.0, &error)[0]), 0.0);
+  EXPECT_EQ(error[0], 0.0);
+  double boost_error = 0;
+  const double reversed = boost::math::quadrature::gauss_kronrod<double, 31>::integrate(
+      [](double x) { return std::exp(x); }, 1.0, 0.0, 0, 0.0, &boost_error);
+  EXPECT_EQ((gauss_kronrod_rule<31>([](double x) { return std::array<double, 1>{std::exp(x)}; }, 1.0, 0.0, &error)[0]),
+            reversed);
+  EXPECT_EQ(error[0], boost_error);
+}
+
+TEST(AdaptiveGaussKronrodComponents, EveryComponentMeetsItsOwnTolerance) {
+  // A kink at 0.3137 in one component, a jump at 0.61 in the other, a smooth
+  // third: each needs pieces of its own; together, each is within its
+  // tolerance and no worse than alone.
+  const auto f = [](double x) {
+    return std::array<double, 3>{std::fabs(x - 0.3137), x < 0.61 ? 1.0 : 2.5, std::exp(x)};
+  };
+  const std::array<double, 3> exact{(0.3137 * 0.3137 + 0.6863 * 0.6863) / 2, 0.61 + 2.5 * 0.39, std::expm1(1.0)};
+  const double tolerance = 1e-10;
+  std::array<double, 3> error{};
+  const std::array<double, 3> together =
+      adaptive_gauss_kronrod_relative_components(f, 0.0, 1.0, tolerance, kDepth, 1, kUnlimitedBisections, &error);
+  for (size_t c = 0; c < 3; ++c) {
+    const double alone = adaptive_gauss_kronrod_relative([&](double x) { return f(x)[c]; }, 0.0, 1.0, tolerance, kDepth);
+    EXPECT_LE(std::fabs(together[c] - exact[c]), tolerance * exact[c]) << c;
+    EXPECT_LE(std::fabs(together[c] - exact[c]), std::fabs(alone - exact[c]) + 4 * kEps * exact[c]) << c;
+    EXPECT_GE(error[c], 0.0) << c;
   }
 }
 
