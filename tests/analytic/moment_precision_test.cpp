@@ -359,9 +359,10 @@ TEST(MomentPrecisionSlow, LightSolidAngleSphere) {
 // MIS (balance, power, one-sample) under a sphere light sampled in its cone,
 // p_l = 1/Ω: E[Y²] = E[Y_b²] + E[Y_l²] + 2·E[Y_b]·E[Y_l] (multi-sample) or
 // ∫ (cos θ)²/q dω, q = c·p_b + (1 − c)·p_l (one-sample), each term a cone integral.
-// Disabled: not yet run to completion (about 100 two-dimensional 50-digit
-// cone integrals, ~1.5 s each); its reference is written, its numbers are not.
-TEST(MomentPrecisionSlow, DISABLED_MisSphere) {
+// Label slow: 52 s on one core, nearly all of it the 50-digit references.
+// Measured: 36 values, worst relative error 1.89e-14 (mis_power, R/D 0.99,
+// β 163.7°), worst error/bound 0.049, 0.0106 s for all the values under test.
+TEST(MomentPrecisionSlow, MisSphere) {
   Worst worst;
   for (const SpherePlacement& s : sphere_placements()) {
     const Scene scene = sphere_scene(s);
