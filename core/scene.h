@@ -4,6 +4,7 @@
 // radiance in W·m⁻²·sr⁻¹, lengths in scene units, reflectance dimensionless.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -24,6 +25,8 @@ struct Rectangle {
   Vec3 corner, edge_u, edge_v;
   Vec3 normal() const { return normalize(cross(edge_u, edge_v)); }
   double area() const { return length(cross(edge_u, edge_v)); }
+  // The four corners in order around the boundary (counter-clockwise about the normal).
+  std::array<Vec3, 4> corners() const { return {corner, corner + edge_u, corner + edge_u + edge_v, corner + edge_v}; }
 };
 
 // A flat disk; `normal` (unit) is its front side.

@@ -1,8 +1,8 @@
 #include "renderer/embree_scene.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <initializer_list>
 #include <utility>
 #include <limits>
 #include <mutex>
@@ -50,9 +50,9 @@ float to_float(double x) { return static_cast<float>(x); }
 double extent_of(const Shape& shape) {
   struct Visitor {
     double operator()(const Rectangle& r) const {
-      const Vec3 c = r.corner;
-      return std::fmax(std::fmax(max_abs_component(c), max_abs_component(c + r.edge_u)),
-                       std::fmax(max_abs_component(c + r.edge_v), max_abs_component(c + r.edge_u + r.edge_v)));
+      double extent = 0;
+      for (const Vec3& c : r.corners()) extent = std::fmax(extent, max_abs_component(c));
+      return extent;
     }
     double operator()(const Disk& d) const { return max_abs_component(d.center) + d.radius; }
     double operator()(const Sphere& s) const { return max_abs_component(s.center) + s.radius; }
@@ -87,7 +87,8 @@ RTCGeometry make_geometry(RTCDevice device, const Shape& shape) {
     RTCDevice device;
     RTCGeometry operator()(const Rectangle& r) const {
       RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
-      set_vertices3(g, {r.corner, r.corner + r.edge_u, r.corner + r.edge_u + r.edge_v, r.corner + r.edge_v});
+      const auto corners = r.corners();
+      set_vertices3(g, std::vector<Vec3>(corners.begin(), corners.end()));
       auto* idx = static_cast<unsigned*>(
           rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), 1));
       for (unsigned i = 0; i < 4; ++i) idx[i] = i;
@@ -125,7 +126,7 @@ struct Interval {
   double lo, hi;
 };
 Interval signed_distances(const Shape& shape, const Vec3& q, const Vec3& n) {
-  const auto of = [&](std::initializer_list<Vec3> points) {
+  const auto of = [&](const auto& points) {
     Interval r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
     for (const Vec3& p : points) {
       r.lo = std::fmin(r.lo, dot(p - q, n));
@@ -134,9 +135,8 @@ Interval signed_distances(const Shape& shape, const Vec3& q, const Vec3& n) {
     return r;
   };
   return std::visit(
-      overloaded{[&](const Rectangle& r) { return of({r.corner, r.corner + r.edge_u, r.corner + r.edge_v,
-                                                      r.corner + r.edge_u + r.edge_v}); },
-                 [&](const Triangle& t) { return of({t.p0, t.p1, t.p2}); },
+      overloaded{[&](const Rectangle& r) { return of(r.corners()); },
+                 [&](const Triangle& t) { return of(std::array<Vec3, 3>{t.p0, t.p1, t.p2}); },
                  [&](const Disk& d) {
                    const double c = dot(d.center - q, n), cos_angle = dot(d.normal, n);
                    const double reach = d.radius * std::sqrt(std::fmax(0.0, 1.0 - cos_angle * cos_angle));
@@ -151,7 +151,7 @@ Interval signed_distances(const Shape& shape, const Vec3& q, const Vec3& n) {
 
 // A sphere that holds the shape: its centre and radius.
 std::pair<Vec3, double> bounding_sphere(const Shape& shape) {
-  const auto of = [](std::initializer_list<Vec3> points) {
+  const auto of = [](const auto& points) {
     Vec3 c;
     for (const Vec3& p : points) c += p / double(points.size());
     double r = 0;
@@ -159,9 +159,8 @@ std::pair<Vec3, double> bounding_sphere(const Shape& shape) {
     return std::pair{c, r};
   };
   return std::visit(
-      overloaded{[&](const Rectangle& r) { return of({r.corner, r.corner + r.edge_u, r.corner + r.edge_v,
-                                                      r.corner + r.edge_u + r.edge_v}); },
-                 [&](const Triangle& t) { return of({t.p0, t.p1, t.p2}); },
+      overloaded{[&](const Rectangle& r) { return of(r.corners()); },
+                 [&](const Triangle& t) { return of(std::array<Vec3, 3>{t.p0, t.p1, t.p2}); },
                  [](const Disk& d) { return std::pair{d.center, d.radius}; },
                  [](const Sphere& s) { return std::pair{s.center, s.radius}; }},
       shape);

@@ -45,9 +45,7 @@ void grow_box(const Shape& shape, Vec3& lo, Vec3& hi) {
     add(c + Vec3(r, r, r));
   };
   std::visit(overloaded{[&](const Rectangle& r) {
-                          for (const Vec3& p : {r.corner, r.corner + r.edge_u, r.corner + r.edge_v,
-                                                r.corner + r.edge_u + r.edge_v})
-                            add(p);
+                          for (const Vec3& p : r.corners()) add(p);
                         },
                         [&](const Disk& d) { add_ball(d.center, d.radius); },  // the disk's ball bounds it
                         [&](const Sphere& s) { add_ball(s.center, s.radius); },

@@ -21,6 +21,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <boost/math/quadrature/gauss_kronrod.hpp>
@@ -327,31 +328,38 @@ std::vector<SpherePlacement> sphere_placements() {
   return out;
 }
 
-Scene sphere_scene(const SpherePlacement& s) {
-  const double D = 0.5, b = s.beta_degrees * kPi / 180;
-  return scene_with(Sphere{{0, D * std::sin(b), D * std::cos(b)}, s.radius_over_distance * D});
-}
-
-// Each placement's α and β in 50 digits from the double geometry the scene holds.
-void sphere_angles(const Scene& scene, Big* alpha, Big* beta) {
-  const Sphere& s = std::get<Sphere>(scene.objects[1].shape);
-  const Big cx(s.center.x), cy(s.center.y), cz(s.center.z);
-  const Big D = sqrt(cx * cx + cy * cy + cz * cz);
-  *alpha = asin(Big(s.radius) / D);
-  *beta = atan2(sqrt(cx * cx + cy * cy), cz);
+// A placement's scene, with its α and β in 50 digits from the double
+// geometry the scene holds.
+struct SphereCase {
+  SpherePlacement placement;
+  Scene scene;
+  Big alpha, beta;
+  std::string at() const {
+    return fmt::format("R/D {:g}, beta {:g} deg", placement.radius_over_distance, placement.beta_degrees);
+  }
+};
+std::vector<SphereCase> sphere_cases() {
+  std::vector<SphereCase> out;
+  for (const SpherePlacement& placement : sphere_placements()) {
+    const double D = 0.5, b = placement.beta_degrees * kPi / 180;
+    SphereCase c{placement,
+                 scene_with(Sphere{{0, D * std::sin(b), D * std::cos(b)}, placement.radius_over_distance * D}), 0, 0};
+    const Sphere& s = std::get<Sphere>(c.scene.objects[1].shape);
+    const Big cx(s.center.x), cy(s.center.y), cz(s.center.z);
+    c.alpha = asin(Big(s.radius) / sqrt(cx * cx + cy * cy + cz * cz));
+    c.beta = atan2(sqrt(cx * cx + cy * cy), cz);
+    out.push_back(std::move(c));
+  }
+  return out;
 }
 
 TEST(MomentPrecisionSlow, LightSolidAngleSphere) {
   Worst worst;
-  for (const SpherePlacement& s : sphere_placements()) {
-    const Scene scene = sphere_scene(s);
-    Big alpha, beta;
-    sphere_angles(scene, &alpha, &beta);
-    const Big omega = 2 * pi_big() * (1 - cos(alpha));
-    const Big expected = omega * cone_integral_reference(alpha, beta, [](const Big& c) { return c * c; });
-    const std::string at = fmt::format("R/D {:g}, beta {:g} deg", s.radius_over_distance, s.beta_degrees);
-    worst.check(timed(worst, [&] { return bounded_second_moment(Strategy::kLightSolidAngle, scene, {0, 0, 1}); }),
-                expected, at);
+  for (const SphereCase& s : sphere_cases()) {
+    const Big omega = 2 * pi_big() * (1 - cos(s.alpha));
+    const Big expected = omega * cone_integral_reference(s.alpha, s.beta, [](const Big& c) { return c * c; });
+    worst.check(timed(worst, [&] { return bounded_second_moment(Strategy::kLightSolidAngle, s.scene, {0, 0, 1}); }),
+                expected, s.at());
   }
   worst.print("light_solid_angle sphere (cone)");
 }
@@ -364,18 +372,15 @@ TEST(MomentPrecisionSlow, LightSolidAngleSphere) {
 // β 163.7°), worst error/bound 0.049, 0.0106 s for all the values under test.
 TEST(MomentPrecisionSlow, MisSphere) {
   Worst worst;
-  for (const SpherePlacement& s : sphere_placements()) {
-    const Scene scene = sphere_scene(s);
-    Big alpha, beta;
-    sphere_angles(scene, &alpha, &beta);
-    const Big p_light = 1 / (2 * pi_big() * (1 - cos(alpha)));
+  for (const SphereCase& s : sphere_cases()) {
+    const Big p_light = 1 / (2 * pi_big() * (1 - cos(s.alpha)));
     for (int beta_mis : {1, 2, 0}) {
       auto weight = [&](const Big& x, const Big& y) {
         const Big xb = beta_mis == 2 ? x * x : x, yb = beta_mis == 2 ? y * y : y;
         return xb / (xb + yb);
       };
       auto term = [&](int k) {
-        return cone_integral_reference(alpha, beta, [&](const Big& c) {
+        return cone_integral_reference(s.alpha, s.beta, [&](const Big& c) {
           const Big p_bsdf = c / pi_big();
           switch (k) {
             case 0: { const Big w = weight(p_bsdf, p_light); return w * w * c * c / p_bsdf; }
@@ -392,9 +397,8 @@ TEST(MomentPrecisionSlow, MisSphere) {
       const Big expected = beta_mis == 0 ? term(4) : term(0) + term(1) + 2 * term(2) * term(3);
       const Strategy strategy =
           beta_mis == 0 ? Strategy::kMisOneSample : beta_mis == 2 ? Strategy::kMisPower : Strategy::kMisBalance;
-      const std::string at = fmt::format("{}, R/D {:g}, beta {:g} deg", strategy_name(strategy),
-                                         s.radius_over_distance, s.beta_degrees);
-      worst.check(timed(worst, [&] { return bounded_second_moment(strategy, scene, {0, 0, 1}); }), expected, at);
+      worst.check(timed(worst, [&] { return bounded_second_moment(strategy, s.scene, {0, 0, 1}); }), expected,
+                  strategy_name(strategy) + ", " + s.at());
     }
   }
   worst.print("MIS sphere (cone)");
