@@ -99,13 +99,15 @@ double DirectLighting::estimate_direction(const DirectionStrategy& strategy, con
   return s->weight * emitted_radiance_towards(scene_.scene(), hit, s->wi_world);
 }
 
-double DirectLighting::estimate_light(const ShadingContext& ctx, Rng& rng, TraceCounters& counters) const {
-  const auto s = light_.sample(ctx, next_uniform3(rng));
+double DirectLighting::estimate_light(const ShadingContext& ctx, Rng& rng, TraceCounters& counters,
+                                      EmitterSetups* setups) const {
+  const auto s = light_.sample(ctx, next_uniform3(rng), setups);
   if (!s || s->weight == 0) return 0.0;
   return light_visible(scene_, *s, counters) ? s->weight * s->radiance : 0.0;
 }
 
-double DirectLighting::estimate_mis(const ShadingContext& ctx, Rng& rng, TraceCounters& counters, int beta) const {
+double DirectLighting::estimate_mis(const ShadingContext& ctx, Rng& rng, TraceCounters& counters, int beta,
+                                    EmitterSetups* setups) const {
   const BsdfStrategy bsdf{defect_};
   double estimate = 0;
   // One BSDF sample, weighted against the light strategy's density for the same direction.
@@ -114,13 +116,14 @@ double DirectLighting::estimate_mis(const ShadingContext& ctx, Rng& rng, TraceCo
     const double le = emitted_radiance_towards(scene_.scene(), hit, s->wi_world);
     if (le > 0) {
       const double w =
-          s->delta ? 1.0 : mis_weights({s->pdf_solid_angle, light_.pdf(ctx, s->wi_world, hit)}, beta, defect_).w_bsdf;
+          s->delta ? 1.0
+                   : mis_weights({s->pdf_solid_angle, light_.pdf(ctx, s->wi_world, hit, setups)}, beta, defect_).w_bsdf;
       estimate += w * s->weight * le;
     }
   }
   // One light sample, weighted against the BSDF's density (0 for a delta BSDF, whose eval is 0 anyway);
   // a point-light sample only against nothing (weight 1): BSDF sampling never finds it.
-  if (const auto s = light_.sample(ctx, next_uniform3(rng)); s && s->weight != 0) {
+  if (const auto s = light_.sample(ctx, next_uniform3(rng), setups); s && s->weight != 0) {
     if (light_visible(scene_, *s, counters)) {
       const double p_bsdf = bsdf.pdf(ctx, s->wi_world);
       const double w = s->delta ? delta_light_mis_weight(*s, p_bsdf, defect_)
@@ -131,7 +134,8 @@ double DirectLighting::estimate_mis(const ShadingContext& ctx, Rng& rng, TraceCo
   return estimate;
 }
 
-double DirectLighting::estimate_one_sample(const ShadingContext& ctx, Rng& rng, TraceCounters& counters) const {
+double DirectLighting::estimate_one_sample(const ShadingContext& ctx, Rng& rng, TraceCounters& counters,
+                                           EmitterSetups* setups) const {
   const BsdfStrategy bsdf{defect_};
   // DEFECT(one_sample_no_selection_prob): the densities are summed without c and 1 − c.
   const bool forget = defect_ == Defect::kOneSampleNoSelectionProb;
@@ -146,10 +150,10 @@ double DirectLighting::estimate_one_sample(const ShadingContext& ctx, Rng& rng, 
     // A delta lobe: only this strategy covers it, chosen with probability c.
     if (s->delta) return s->weight * le / c;
     // weight·p_bsdf = f·cos θ: the estimate f·cos θ·Le/(c·p_bsdf + (1 − c)·p_light).
-    const double p_light = light_.pdf(ctx, s->wi_world, hit);
+    const double p_light = light_.pdf(ctx, s->wi_world, hit, setups);
     return s->weight * s->pdf_solid_angle * le / (c * s->pdf_solid_angle + c_light * p_light);
   }
-  const auto s = light_.sample(ctx, next_uniform3(rng));
+  const auto s = light_.sample(ctx, next_uniform3(rng), setups);
   if (!s || s->weight == 0 || !light_visible(scene_, *s, counters)) return 0.0;
   // A point light: only this strategy covers it, chosen with probability 1 − c.
   if (s->delta) return s->weight * s->radiance / c_light;
@@ -157,17 +161,18 @@ double DirectLighting::estimate_one_sample(const ShadingContext& ctx, Rng& rng, 
   return s->weight * s->pdf_solid_angle * s->radiance / (c * p_bsdf + c_light * s->pdf_solid_angle);
 }
 
-double DirectLighting::estimate(const ShadingContext& ctx, Rng& rng, TraceCounters& counters) const {
+double DirectLighting::estimate(const ShadingContext& ctx, Rng& rng, TraceCounters& counters,
+                                EmitterSetups* setups) const {
   if (ctx.bsdf.is_black()) return 0.0;
   switch (strategy_) {
     case Strategy::kUniformHemisphere: return estimate_direction(UniformHemisphereStrategy{defect_}, ctx, rng, counters);
     case Strategy::kCosineHemisphere: return estimate_direction(CosineHemisphereStrategy{defect_}, ctx, rng, counters);
     case Strategy::kBsdf: return estimate_direction(BsdfStrategy{defect_}, ctx, rng, counters);
     case Strategy::kLightArea:
-    case Strategy::kLightSolidAngle: return estimate_light(ctx, rng, counters);
+    case Strategy::kLightSolidAngle: return estimate_light(ctx, rng, counters, setups);
     case Strategy::kMisBalance:
-    case Strategy::kMisPower: return estimate_mis(ctx, rng, counters, strategy_info(strategy_).mis_beta);
-    case Strategy::kMisOneSample: return estimate_one_sample(ctx, rng, counters);
+    case Strategy::kMisPower: return estimate_mis(ctx, rng, counters, strategy_info(strategy_).mis_beta, setups);
+    case Strategy::kMisOneSample: return estimate_one_sample(ctx, rng, counters, setups);
     case Strategy::kPathNaive:
     case Strategy::kPathMis: break;
   }

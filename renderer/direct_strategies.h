@@ -66,7 +66,10 @@ MisWeights mis_weights(const MisPdfs& pdfs, int beta, Defect defect);
 class DirectLighting {
  public:
   DirectLighting(const EmbreeScene& scene, const LightSet& lights, Strategy strategy, Defect defect);
-  double estimate(const ShadingContext& ctx, Rng& rng, TraceCounters& counters) const;
+  // `setups`, when bound to ctx, keeps the light strategy's per-emitter set-up
+  // between the samples of one shading point (EmitterSetups; same results).
+  double estimate(const ShadingContext& ctx, Rng& rng, TraceCounters& counters,
+                  EmitterSetups* setups = nullptr) const;
   // Both strategies' densities of wi_world at ctx (the ray along it found
   // `hit`), exactly as estimate_mis() weighs its samples. For tests of MIS.
   MisPdfs mis_pdfs(const ShadingContext& ctx, const Vec3& wi_world, const std::optional<SurfaceHit>& hit) const;
@@ -75,14 +78,16 @@ class DirectLighting {
   template <typename DirectionStrategy>
   double estimate_direction(const DirectionStrategy& s, const ShadingContext& ctx, Rng& rng,
                             TraceCounters& counters) const;
-  double estimate_light(const ShadingContext& ctx, Rng& rng, TraceCounters& counters) const;
-  double estimate_mis(const ShadingContext& ctx, Rng& rng, TraceCounters& counters, int beta) const;
+  double estimate_light(const ShadingContext& ctx, Rng& rng, TraceCounters& counters, EmitterSetups* setups) const;
+  double estimate_mis(const ShadingContext& ctx, Rng& rng, TraceCounters& counters, int beta,
+                      EmitterSetups* setups) const;
   // mis_one_sample: Veach's one-sample model (1997, §9.2.4) with the balance
   // heuristic. Strategy i ∈ {bsdf, light} is chosen with probability c_i and
   // its sample X gives f(X)·Li(X)·cos θ / Σ_j c_j·p_j(X); a delta sample (a
   // mirror lobe, a point light) is covered by its own strategy only and gives
   // weight·Li/c_i. DEFECT(one_sample_no_selection_prob) drops the c_j.
-  double estimate_one_sample(const ShadingContext& ctx, Rng& rng, TraceCounters& counters) const;
+  double estimate_one_sample(const ShadingContext& ctx, Rng& rng, TraceCounters& counters,
+                             EmitterSetups* setups) const;
 
   const EmbreeScene& scene_;
   const LightSet& lights_;

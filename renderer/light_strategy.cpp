@@ -15,13 +15,6 @@ namespace {
 // Sampling one emitter, by area or by solid angle. The choice of method is a
 // function of (shape, viewpoint, mode) only, so sample() and pdf() agree.
 
-struct ConeSetup {
-  Sphere sphere;
-  Frame frame;  // z towards the sphere's centre
-  ConeAperture aperture;
-};
-using EmitterMethod = std::variant<std::monostate, ConeSetup, SphericalTriangleSampler, SphericalRectangleSampler>;
-
 // cos θ' at a light point: signed for one-sided lights (the back has no
 // emission, so no density), absolute for two-sided ones.
 double light_cosine(const Vec3& light_normal, const Vec3& wi, bool two_sided) {
@@ -158,13 +151,44 @@ std::optional<EmitterPoint> sample_emitter_point(const EmitterMethod& method, co
 
 }  // namespace
 
-std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, const Uniform3& u) const {
-  if (lights->count() == 0) return std::nullopt;
+const EmitterMethod& LightStrategy::method_at(size_t object, const ShadingContext& ctx, EmitterSetups& setups) const {
+  static const EmitterMethod kByArea{};
+  const bool self = object == ctx.object;
+  if (emitter_sampling == EmitterSampling::kArea || self) return kByArea;  // as emitter_method() decides
+  const Object& emitter = scene->scene().objects[object];
+  if (setups.holds(ctx) && object < setups.ready_.size()) {
+    if (!setups.ready_[object]) {
+      setups.methods_[object] = emitter_method(emitter, ctx.point, emitter_sampling, self, defect);
+      setups.ready_[object] = 1;
+    }
+    return setups.methods_[object];
+  }
+  setups.scratch_ = emitter_method(emitter, ctx.point, emitter_sampling, self, defect);
+  return setups.scratch_;
+}
+
+std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, const Uniform3& u,
+                                                 EmitterSetups* setups) const {
+  // Filled in place in the caller's optional (one named return value).
+  std::optional<LightSample> result(std::in_place);
+  bool sampled;
+  if (setups) {
+    sampled = sample_into(ctx, u, *setups, *result);
+  } else {
+    EmitterSetups unbound;
+    sampled = sample_into(ctx, u, unbound, *result);
+  }
+  if (!sampled) result.reset();
+  return result;
+}
+
+bool LightStrategy::sample_into(const ShadingContext& ctx, const Uniform3& u, EmitterSetups& setups,
+                                LightSample& s) const {
+  if (lights->count() == 0) return false;
   const size_t light = lights->select(u[0]);
-  LightSample s;
   s.selection_pmf = lights->pmf(light);
   const double pmf = s.selection_pmf;
-  if (!(pmf > 0)) return std::nullopt;  // a light of zero power is never chosen
+  if (!(pmf > 0)) return false;  // a light of zero power is never chosen
   // DEFECT(power_selection_uniform_pmf): chosen by power, divided by the uniform pmf 1/K.
   const double pmf_in_weight = defect == Defect::kPowerSelectionUniformPmf ? 1.0 / double(lights->count()) : pmf;
   double pdf_for_weight = 0;
@@ -173,20 +197,20 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     const PointLight& point = scene->scene().point_lights[lights->point_lights[light - lights->emitters.size()]];
     const Vec3 to_light = point.position - ctx.point;
     const double distance_squared = length_squared(to_light);
-    if (!(distance_squared > 0)) return std::nullopt;
+    if (!(distance_squared > 0)) return false;
     s.wi_world = to_light / std::sqrt(distance_squared);
     s.delta = true;
     s.radiance = point.intensity / distance_squared;
     s.shadow_origin = ray_origin(ctx.point, ctx.normal, s.wi_world, defect);  // DEFECT(ray_offset_1e4) inside
     const Vec3 segment = point.position - s.shadow_origin;
     s.shadow_t_max = length(segment);
-    if (!(s.shadow_t_max > 0)) return std::nullopt;
+    if (!(s.shadow_t_max > 0)) return false;
     s.shadow_direction = segment / s.shadow_t_max;
     s.shadow_ends = RayEnds{ctx.object, RayEnds::kNone};  // no object to name for the end: the filter decides
     const Vec3 wi_local = ctx.frame.local_from_world(s.wi_world);
     s.weight = ctx.bsdf.eval(ctx.wo_local, wi_local) * std::fmax(wi_local.z, 0.0) / pmf_in_weight;
     s.assume_visible = defect == Defect::kSkipShadowRay;  // DEFECT(skip_shadow_ray)
-    return s;
+    return true;
   }
   if (lights->is_environment(light)) {
     double environment_pdf = 0;  // density in solid angle, selection pmf excluded
@@ -194,7 +218,7 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
       // An image-based environment: its texels by importance (environment_sampler.h);
       // directions below the horizon get weight 0 from the cosine below.
       const auto e = map->sample(u[1], u[2], defect);  // DEFECT(env_missing_sin_theta) inside
-      if (!e) return std::nullopt;
+      if (!e) return false;
       s.wi_world = e->wi_world;
       environment_pdf = e->pdf_solid_angle;
     } else {
@@ -215,13 +239,13 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     const Object& emitter = scene->scene().objects[object];
     const bool self = object == ctx.object;
     // A flat light cannot light its own points (they see it edge-on).
-    if (self && is_planar(emitter.shape)) return std::nullopt;
-    const EmitterMethod method = emitter_method(emitter, ctx.point, emitter_sampling, self, defect);
+    if (self && is_planar(emitter.shape)) return false;
+    const EmitterMethod& method = method_at(object, ctx, setups);
     const auto q = sample_emitter_point(method, emitter.shape, ctx.point, u[1], u[2]);
-    if (!q) return std::nullopt;
+    if (!q) return false;
     const Vec3 to_light = q->point - ctx.point;
     const double distance_squared = length_squared(to_light);
-    if (!(distance_squared > 0)) return std::nullopt;
+    if (!(distance_squared > 0)) return false;
     s.wi_world = q->direction ? *q->direction : to_light / std::sqrt(distance_squared);
     const double emitter_pdf = emitter_pdf_solid_angle(method, emitter, ctx.point, s.wi_world, q->point, q->normal, defect);
     s.pdf_solid_angle = pmf * emitter_pdf;
@@ -239,15 +263,20 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
     s.shadow_direction = segment / s.shadow_t_max;
     s.shadow_ends = RayEnds{ctx.object, object};
   }
-  if (!(s.pdf_solid_angle > 0)) return std::nullopt;  // back of a one-sided light, or a grazing point
+  if (!(s.pdf_solid_angle > 0)) return false;  // back of a one-sided light, or a grazing point
   const Vec3 wi_local = ctx.frame.local_from_world(s.wi_world);
   s.weight = ctx.bsdf.eval(ctx.wo_local, wi_local) * std::fmax(wi_local.z, 0.0) / pdf_in_weight(pdf_for_weight, defect);
   // DEFECT(skip_shadow_ray): every light sample is taken as visible.
   s.assume_visible = defect == Defect::kSkipShadowRay;
-  return s;
+  return true;
 }
 
-double LightStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_world, const std::optional<SurfaceHit>& hit) const {
+double LightStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_world, const std::optional<SurfaceHit>& hit,
+                          EmitterSetups* setups) const {
+  if (!setups) {
+    EmitterSetups unbound;
+    return pdf(ctx, wi_world, hit, &unbound);
+  }
   if (lights->count() == 0) return 0.0;
   // Point lights are never found by a ray: only emitters and the environment have a density here.
   if (!hit) {
@@ -261,7 +290,7 @@ double LightStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_world, const
   if (!o.is_emitter() || !(hit->front_facing || o.two_sided)) return 0.0;
   const bool self = hit->object == ctx.object;
   if (self && is_planar(o.shape)) return 0.0;  // as in sample()
-  const EmitterMethod method = emitter_method(o, ctx.point, emitter_sampling, self, defect);
+  const EmitterMethod& method = method_at(hit->object, ctx, *setups);
   return pmf * emitter_pdf_solid_angle(method, o, ctx.point, wi_world, hit->point, hit->normal, defect);
 }
 

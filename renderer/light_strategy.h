@@ -13,9 +13,13 @@
 #pragma once
 
 #include <optional>
+#include <variant>
+#include <vector>
 
 #include "renderer/estimator.h"
 #include "renderer/lights.h"
+#include "renderer/sampling.h"
+#include "renderer/spherical_sampling.h"
 
 namespace furnace {
 
@@ -41,6 +45,45 @@ enum class EmitterSampling {
   kSolidAngle,  // uniform in the solid angle the emitter subtends where an exact map exists
 };
 
+// How one emitter is sampled from one shading point: by area (monostate), by
+// the cone of a sphere, or by the spherical triangle or rectangle map. A
+// function of (emitter, point, EmitterSampling, defect) only, so sample() and
+// pdf() agree.
+struct ConeSetup {
+  Sphere sphere;
+  Frame frame;  // z towards the sphere's centre
+  ConeAperture aperture;
+};
+using EmitterMethod = std::variant<std::monostate, ConeSetup, SphericalTriangleSampler, SphericalRectangleSampler>;
+
+// The emitters' EmitterMethods at one shading point, each computed on first
+// use and kept for every later query from the same point: all of a pixel's
+// direct-lighting samples, and the first vertex of all its paths, shade the
+// camera ray's one hit. Bound to one point (bind()) and used with one
+// LightStrategy; a query from any other point computes its own method and
+// leaves the store alone, so results are the same bit for bit with or without
+// it. Allocates only when the scene has more objects than the last bind saw.
+class EmitterSetups {
+ public:
+  void bind(const ShadingContext& ctx, size_t n_objects) {
+    object_ = ctx.object;
+    point_ = ctx.point;
+    bound_ = true;
+    ready_.assign(n_objects, 0);
+    if (methods_.size() < n_objects) methods_.resize(n_objects);
+  }
+  bool holds(const ShadingContext& ctx) const { return bound_ && ctx.object == object_ && ctx.point == point_; }
+
+ private:
+  friend struct LightStrategy;
+  bool bound_ = false;
+  size_t object_ = 0;
+  Vec3 point_;
+  std::vector<EmitterMethod> methods_;
+  std::vector<unsigned char> ready_;
+  EmitterMethod scratch_;  // a query from another point
+};
+
 // Choose a light among LightSet by its pmf, then sample it: an emitter by
 // EmitterSampling, a constant environment by cosine-weighted directions, an
 // environment map by its texels' importance (environment_sampler.h; directions
@@ -53,10 +96,22 @@ struct LightStrategy {
   EmitterSampling emitter_sampling = EmitterSampling::kArea;
   Defect defect = Defect::kNone;
 
-  std::optional<LightSample> sample(const ShadingContext& ctx, const Uniform3& u) const;
+  // `setups`, when given and bound to ctx's point, keeps the emitters' methods
+  // between calls (EmitterSetups); it never changes a result.
+  std::optional<LightSample> sample(const ShadingContext& ctx, const Uniform3& u, EmitterSetups* setups = nullptr) const;
   // Density in solid angle of sampling direction wi, whose ray found `hit`
   // (empty: it escaped). Used by MIS for directions drawn by another strategy.
-  double pdf(const ShadingContext& ctx, const Vec3& wi_world, const std::optional<SurfaceHit>& hit) const;
+  double pdf(const ShadingContext& ctx, const Vec3& wi_world, const std::optional<SurfaceHit>& hit,
+             EmitterSetups* setups = nullptr) const;
+
+ private:
+  // sample() into `s`, which must be default-constructed; false: no sample.
+  bool sample_into(const ShadingContext& ctx, const Uniform3& u, EmitterSetups& setups, LightSample& s) const;
+  // The method of emitter `object` at ctx: the area method as a constant,
+  // else from `setups` when it holds ctx's point (computed there on first
+  // use), else computed into the setups' scratch slot. A reference to it is
+  // good until the next call.
+  const EmitterMethod& method_at(size_t object, const ShadingContext& ctx, EmitterSetups& setups) const;
 };
 
 // The MIS weight of a delta (point-light) light sample against BSDF sampling:

@@ -23,7 +23,7 @@ PathTracer::PathTracer(const EmbreeScene& scene, const LightSet& lights, const R
 }
 
 double PathTracer::radiance(const Vec3& direction, const std::optional<SurfaceHit>& first_hit, Rng& rng,
-                            TraceCounters& counters) const {
+                            TraceCounters& counters, EmitterSetups* setups) const {
   const Scene& scene = scene_.scene();
   double radiance = 0;
   double throughput = 1;
@@ -41,7 +41,7 @@ double PathTracer::radiance(const Vec3& direction, const std::optional<SurfaceHi
       double w = 1;
       // DEFECT(double_count_emission): weight 1 here although the light sample also counts this emission.
       if (next_event_ && !previous_delta && defect_ != Defect::kDoubleCountEmission)
-        w = mis_weight(previous_pdf_bsdf, light_.pdf(*previous, wi_world, hit), kPathMisBeta);
+        w = mis_weight(previous_pdf_bsdf, light_.pdf(*previous, wi_world, hit, setups), kPathMisBeta);
       radiance += throughput * w * le;
     }
     if (!hit || depth >= max_depth_) break;
@@ -51,7 +51,7 @@ double PathTracer::radiance(const Vec3& direction, const std::optional<SurfaceHi
     if (ctx.bsdf.is_black()) break;
 
     if (next_event_ && !ctx.bsdf.is_delta()) {
-      if (const auto s = light_.sample(ctx, next_uniform3(rng)); s && s->weight != 0) {
+      if (const auto s = light_.sample(ctx, next_uniform3(rng), setups); s && s->weight != 0) {
         if (light_visible(scene_, *s, counters)) {
           // A point light (delta) is found by light sampling only: weight 1.
           const double p_bsdf = bsdf_.pdf(ctx, s->wi_world);

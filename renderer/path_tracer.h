@@ -23,9 +23,11 @@ class PathTracer {
  public:
   PathTracer(const EmbreeScene& scene, const LightSet& lights, const RenderOptions& options);
   // Radiance along the camera ray (origin, direction) whose first hit is
-  // `first_hit` (traced once per pixel by the caller).
+  // `first_hit` (traced once per pixel by the caller). `setups`, when bound
+  // to the first hit's shading point, keeps the light strategy's per-emitter
+  // set-up there between samples (EmitterSetups; same results).
   double radiance(const Vec3& direction, const std::optional<SurfaceHit>& first_hit, Rng& rng,
-                  TraceCounters& counters) const;
+                  TraceCounters& counters, EmitterSetups* setups = nullptr) const;
 
  private:
   const EmbreeScene& scene_;

@@ -95,6 +95,7 @@ Image render(const Scene& scene, const RenderOptions& options) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n_pixels, kPixelGrain), [&](const tbb::blocked_range<size_t>& r) {
     TraceCounters& c = counters.local();
     uint64_t& bad = nonfinite.local();
+    EmitterSetups setups;  // the light strategy's per-emitter set-up at this pixel's shading point
     for (size_t pixel = r.begin(); pixel != r.end(); ++pixel) {
       const int px = int(pixel % size_t(image.width));
       const int py = int(pixel / size_t(image.width));
@@ -104,14 +105,17 @@ Image render(const Scene& scene, const RenderOptions& options) {
       const std::optional<SurfaceHit> hit = rtc_scene.intersect(ray.origin, ray.direction);
       const double le = emitted_radiance_towards(scene, hit, ray.direction);
       std::optional<ShadingContext> ctx;
-      if (hit) ctx = ShadingContext::at(*hit, -ray.direction, scene.objects[hit->object].material, options.defect);
+      if (hit) {
+        ctx = ShadingContext::at(*hit, -ray.direction, scene.objects[hit->object].material, options.defect);
+        setups.bind(*ctx, scene.objects.size());
+      }
       PixelMoments& moments = image.pixels[pixel];
       const uint64_t pixel_key = Rng::pixel_key(options.seed, pixel);
       for (int s = 0; s < options.spp; ++s) {
         Rng rng = Rng::for_sample(pixel_key, uint64_t(s));
         double y;
-        if (path) y = path_tracer.radiance(ray.direction, hit, rng, c);
-        else y = ctx ? le + direct.estimate(*ctx, rng, c) : le;
+        if (path) y = path_tracer.radiance(ray.direction, hit, rng, c, &setups);
+        else y = ctx ? le + direct.estimate(*ctx, rng, c, &setups) : le;
         // DEFECT(nan_sample): a fixed 1/1024 of the (pixel, sample) pairs runs away.
         if (options.defect == Defect::kNanSample && (pixel + size_t(s)) % 1024 == 0)
           y = std::numeric_limits<double>::quiet_NaN();
