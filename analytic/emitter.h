@@ -22,7 +22,10 @@ double emitter_irradiance(const Scene& scene, size_t emitter, const Vec3& p, con
 // Throws furnace::Error unless no object other than `emitter` and
 // `receiver` can meet the hull of p and the emitter's bounding ball above p's
 // horizon (objects wholly below the horizon block only directions with
-// cos θ ≤ 0, which carry no irradiance).
+// cos θ ≤ 0, which carry no irradiance). Of a planar emitter, objects wholly
+// on the far side of its plane from p are admitted too, and those reaching
+// the plane only from there (coplanar ones) when their bounding balls are
+// apart: neither can meet a segment from p to the light.
 void require_unoccluded(const Scene& scene, size_t emitter, const Vec3& p, const Vec3& n,
                         std::optional<size_t> receiver);
 
