@@ -46,8 +46,8 @@ bool behind_planar_emitter(const Shape& object, const Vec3& p, const PlaneOf& pl
 
 }  // namespace
 
-void require_unoccluded(const Scene& scene, size_t emitter, const Vec3& p, const Vec3& n,
-                        std::optional<size_t> receiver) {
+std::optional<size_t> possible_blocker(const Scene& scene, size_t emitter, const Vec3& p, const Vec3& n,
+                                       std::optional<size_t> receiver) {
   const Object& light = scene.objects[emitter];
   const BoundingSphere light_ball = bounding_sphere(light.shape);
   const std::optional<PlaneOf> light_plane = plane_of(light.shape);
@@ -57,9 +57,16 @@ void require_unoccluded(const Scene& scene, size_t emitter, const Vec3& p, const
     if (height_range(object.shape, p, n).hi <= 0) continue;
     if (light_plane && behind_planar_emitter(object.shape, p, *light_plane, light_ball)) continue;
     if (!ball_may_meet_ball_cone(bounding_sphere(object.shape), p, light_ball)) continue;
-    unsupported_configuration(scene, "object '" + object.name + "', which may block part of the emitter '" + light.name +
-                                         "' where only an unoccluded emitter is solved,");
+    return j;
   }
+  return std::nullopt;
+}
+
+void require_unoccluded(const Scene& scene, size_t emitter, const Vec3& p, const Vec3& n,
+                        std::optional<size_t> receiver) {
+  if (const std::optional<size_t> j = possible_blocker(scene, emitter, p, n, receiver))
+    unsupported_configuration(scene, "object '" + scene.objects[*j].name + "', which may block part of the emitter '" +
+                                         scene.objects[emitter].name + "' where only an unoccluded emitter is solved,");
 }
 
 double emitter_irradiance(const Scene& scene, size_t emitter, const Vec3& p, const Vec3& n,

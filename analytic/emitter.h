@@ -28,5 +28,8 @@ double emitter_irradiance(const Scene& scene, size_t emitter, const Vec3& p, con
 // apart: neither can meet a segment from p to the light.
 void require_unoccluded(const Scene& scene, size_t emitter, const Vec3& p, const Vec3& n,
                         std::optional<size_t> receiver);
+// The first object require_unoccluded would name, if any.
+std::optional<size_t> possible_blocker(const Scene& scene, size_t emitter, const Vec3& p, const Vec3& n,
+                                       std::optional<size_t> receiver);
 
 }  // namespace furnace::analytic

@@ -86,11 +86,12 @@ double emitter_kernel(Strategy estimator, const Scene& scene, size_t i, const Ve
   const Object& object = scene.objects[i];
   const bool hemisphere = estimator == Strategy::kUniformHemisphere;
   // Rectangles and triangles: the exact planar path handles occluders and the
-  // horizon for the cos² kernel; the light-area kernel needs an unoccluded light.
+  // horizon for both kernels; an unoccluded light's area kernel has its own
+  // closed form (polygon_area_kernel).
   auto polygon_kernel = [&](const auto& polygon) {
     if (hemisphere) return planar_light_cos2_solid_angle(scene, i, p, n, receiver);
     if (emitter_irradiance(scene, i, p, n, receiver) == 0) return 0.0;
-    require_unoccluded(scene, i, p, n, receiver);
+    if (possible_blocker(scene, i, p, n, receiver)) return planar_light_area_kernel(scene, i, p, n, receiver);
     return polygon_area_kernel(polygon_vertices_relative(polygon, p), n);
   };
   return std::visit(
