@@ -33,14 +33,6 @@ struct Fixture : testing_support::FloorFixture {
     scene.objects.push_back(make_object("disk", Disk{{1, -1, 2}, {0, 0, -1}, 0.4}, 0, 4.0));
     build(LightSelection::kPower);
   }
-  ShadingContext context_at(const Vec3& point) const {
-    SurfaceHit hit;
-    hit.object = 0;
-    hit.point = point;
-    hit.normal = {0, 0, 1};
-    hit.front_facing = true;
-    return ShadingContext::at(hit, normalize(Vec3{-0.3, 0.2, 1}), scene.objects[0].material);
-  }
 };
 
 void expect_same(const std::optional<LightSample>& a, const std::optional<LightSample>& b) {

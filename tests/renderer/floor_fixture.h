@@ -26,10 +26,12 @@ struct FloorFixture {
     lights = std::make_unique<LightSet>(scene, selection);
   }
   // The shading point at the origin on object 0, viewed from direction `wo`.
-  ShadingContext context(const Vec3& wo = normalize(Vec3{0.2, 0.1, 1})) const {
+  ShadingContext context(const Vec3& wo = normalize(Vec3{0.2, 0.1, 1})) const { return context_at({0, 0, 0}, wo); }
+  // The same at another point of the floor (z = 0).
+  ShadingContext context_at(const Vec3& point, const Vec3& wo = normalize(Vec3{0.2, 0.1, 1})) const {
     SurfaceHit hit;
     hit.object = 0;
-    hit.point = {0, 0, 0};
+    hit.point = point;
     hit.normal = {0, 0, 1};
     hit.front_facing = true;
     return ShadingContext::at(hit, wo, scene.objects[0].material);
