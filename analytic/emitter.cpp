@@ -15,25 +15,13 @@ namespace furnace::analytic {
 
 namespace {
 
-// A planar shape's plane: a point on it and its unit normal; empty for a sphere.
-struct PlaneOf {
-  Vec3 point, normal;
-};
-std::optional<PlaneOf> plane_of(const Shape& shape) {
-  return std::visit(overloaded{[](const Rectangle& r) { return std::optional<PlaneOf>({r.corner, r.normal()}); },
-                               [](const Disk& d) { return std::optional<PlaneOf>({d.center, d.normal}); },
-                               [](const Sphere&) { return std::optional<PlaneOf>(); },
-                               [](const Triangle& t) { return std::optional<PlaneOf>({t.p0, t.normal()}); }},
-                    shape);
-}
-
 // Whether `object` provably meets no segment from p to a point of the planar
 // emitter: every such segment, its light end left out, lies strictly on p's
 // side of the emitter's plane, so an object wholly on the other side cannot
 // meet it, and one that reaches the plane only from there (a coplanar
 // object, say) meets it at most at its light end, which it cannot when the
 // two shapes' bounding balls are apart.
-bool behind_planar_emitter(const Shape& object, const Vec3& p, const PlaneOf& plane, const BoundingSphere& light_ball) {
+bool behind_planar_emitter(const Shape& object, const Vec3& p, const Plane& plane, const BoundingSphere& light_ball) {
   const double s = dot(p - plane.point, plane.normal);
   const ZRange z = height_range(object, plane.point, plane.normal);
   const bool strictly = s > 0 ? z.hi < 0 : z.lo > 0;
@@ -50,7 +38,7 @@ std::optional<size_t> possible_blocker(const Scene& scene, size_t emitter, const
                                        std::optional<size_t> receiver) {
   const Object& light = scene.objects[emitter];
   const BoundingSphere light_ball = bounding_sphere(light.shape);
-  const std::optional<PlaneOf> light_plane = plane_of(light.shape);
+  const std::optional<Plane> light_plane = plane_of(light.shape);
   for (size_t j = 0; j < scene.objects.size(); ++j) {
     if (j == emitter || (receiver && j == *receiver)) continue;
     const Object& object = scene.objects[j];

@@ -63,6 +63,19 @@ inline bool is_planar(const Shape& shape) {
                     shape);
 }
 
+// A flat shape's plane: a point on it and its front normal.
+struct Plane {
+  Vec3 point, normal;
+};
+// The plane of a flat shape; empty for a sphere.
+inline std::optional<Plane> plane_of(const Shape& shape) {
+  return std::visit(overloaded{[](const Rectangle& r) { return std::optional<Plane>(Plane{r.corner, r.normal()}); },
+                               [](const Disk& d) { return std::optional<Plane>(Plane{d.center, d.normal}); },
+                               [](const Sphere&) { return std::optional<Plane>(); },
+                               [](const Triangle& t) { return std::optional<Plane>(Plane{t.p0, t.normal()}); }},
+                    shape);
+}
+
 enum class BsdfType { kLambertian, kMirror, kPhong };
 
 struct Material {

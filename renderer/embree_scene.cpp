@@ -169,13 +169,8 @@ std::pair<Vec3, double> bounding_sphere(const Shape& shape) {
 // The exact surface a shape's hits are refined against: its plane (a point
 // on it and the front normal) or its sphere.
 EmbreeScene::ExactSurface exact_surface(const Shape& shape) {
-  using Plane = EmbreeScene::Plane;
-  using Surface = EmbreeScene::ExactSurface;
-  return std::visit(overloaded{[](const Rectangle& r) -> Surface { return Plane{r.corner, r.normal()}; },
-                               [](const Disk& d) -> Surface { return Plane{d.center, d.normal}; },
-                               [](const Sphere& s) -> Surface { return s; },
-                               [](const Triangle& t) -> Surface { return Plane{t.p0, t.normal()}; }},
-                    shape);
+  if (const std::optional<Plane> plane = plane_of(shape)) return *plane;
+  return std::get<Sphere>(shape);
 }
 
 RTCRay make_ray(const Vec3& origin, const Vec3& direction, double t_max) {

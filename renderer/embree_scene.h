@@ -115,11 +115,8 @@ class EmbreeScene {
   // stop). Not thread-safe: for single-threaded renders that benchmarks replay.
   void record_rays(std::vector<TracedRay>* log) { ray_log_ = log; }
 
-  // The exact surface hits are refined against: a flat shape's plane (a
-  // point on it and its front normal) or a sphere.
-  struct Plane {
-    Vec3 point, normal;
-  };
+  // The exact surface hits are refined against: a flat shape's plane
+  // (core/scene.h: a point on it and its front normal) or a sphere.
   using ExactSurface = std::variant<Plane, Sphere>;
 
  private:

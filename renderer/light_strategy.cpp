@@ -36,12 +36,11 @@ ConeAperture float_cone_aperture(double sin2_theta_max) {
 // light is seen within 2.9° of edge-on.
 constexpr double kDefectGrazingCosine = 0.05;
 
-// `self`: the shading point lies on this emitter. A sphere cannot use its cone
-// from its own surface (only a two-sided sphere seen from inside sees itself,
-// and area sampling covers that).
-EmitterMethod emitter_method(const Object& emitter, const Vec3& p, EmitterSampling mode, bool self, Defect defect) {
+// The solid-angle method of `emitter` from p (LightStrategy::method_at has
+// already sent area sampling, and a shading point on the emitter itself, to
+// the area method).
+EmitterMethod solid_angle_method(const Object& emitter, const Vec3& p, Defect defect) {
   const Shape& shape = emitter.shape;
-  if (mode == EmitterSampling::kArea || self) return std::monostate{};
   // A two-sided planar light seen from behind is sampled as its mirror-oriented twin.
   return std::visit(
       overloaded{
@@ -77,7 +76,7 @@ EmitterMethod emitter_method(const Object& emitter, const Vec3& p, EmitterSampli
 double emitter_pdf_solid_angle(const EmitterMethod& method, const Object& emitter, const Vec3& p, const Vec3& wi,
                                const Vec3& point, const Vec3& normal, Defect defect) {
   // The solid-angle methods exist only for viewpoints in front of the light
-  // (emitter_method), so every direction they cover meets its emitting side;
+  // (method_at), so every direction they cover meets its emitting side;
   // no cos θ' test for them, which round-off would fail at a sphere's silhouette.
   return std::visit(overloaded{[&](std::monostate) {
                                  double cos_light = light_cosine(normal, wi, emitter.two_sided);
@@ -152,18 +151,20 @@ std::optional<EmitterPoint> sample_emitter_point(const EmitterMethod& method, co
 }  // namespace
 
 const EmitterMethod& LightStrategy::method_at(size_t object, const ShadingContext& ctx, EmitterSetups& setups) const {
+  // Area sampling, or a shading point on the emitter itself: by area (a
+  // sphere cannot use its cone from its own surface; only a two-sided sphere
+  // seen from inside sees itself, and area sampling covers that).
   static const EmitterMethod kByArea{};
-  const bool self = object == ctx.object;
-  if (emitter_sampling == EmitterSampling::kArea || self) return kByArea;  // as emitter_method() decides
+  if (emitter_sampling == EmitterSampling::kArea || object == ctx.object) return kByArea;
   const Object& emitter = scene->scene().objects[object];
   if (setups.holds(ctx) && object < setups.ready_.size()) {
     if (!setups.ready_[object]) {
-      setups.methods_[object] = emitter_method(emitter, ctx.point, emitter_sampling, self, defect);
+      setups.methods_[object] = solid_angle_method(emitter, ctx.point, defect);
       setups.ready_[object] = 1;
     }
     return setups.methods_[object];
   }
-  setups.scratch_ = emitter_method(emitter, ctx.point, emitter_sampling, self, defect);
+  setups.scratch_ = solid_angle_method(emitter, ctx.point, defect);
   return setups.scratch_;
 }
 

@@ -47,8 +47,8 @@ enum class EmitterSampling {
 
 // How one emitter is sampled from one shading point: by area (monostate), by
 // the cone of a sphere, or by the spherical triangle or rectangle map. A
-// function of (emitter, point, EmitterSampling, defect) only, so sample() and
-// pdf() agree.
+// function of (emitter, point, EmitterSampling, defect) only, decided in one
+// place (LightStrategy::method_at), so sample() and pdf() agree.
 struct ConeSetup {
   Sphere sphere;
   Frame frame;  // z towards the sphere's centre
@@ -68,15 +68,14 @@ class EmitterSetups {
   void bind(const ShadingContext& ctx, size_t n_objects) {
     object_ = ctx.object;
     point_ = ctx.point;
-    bound_ = true;
     ready_.assign(n_objects, 0);
     if (methods_.size() < n_objects) methods_.resize(n_objects);
   }
-  bool holds(const ShadingContext& ctx) const { return bound_ && ctx.object == object_ && ctx.point == point_; }
+  // Bound (a scene has objects) to ctx's point.
+  bool holds(const ShadingContext& ctx) const { return !ready_.empty() && ctx.object == object_ && ctx.point == point_; }
 
  private:
   friend struct LightStrategy;
-  bool bound_ = false;
   size_t object_ = 0;
   Vec3 point_;
   std::vector<EmitterMethod> methods_;

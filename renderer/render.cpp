@@ -92,10 +92,13 @@ Image render(const Scene& scene, const RenderOptions& options) {
 
   tbb::combinable<TraceCounters> counters;
   tbb::combinable<uint64_t> nonfinite([] { return uint64_t(0); });
+  // The light strategy's per-emitter set-up at a pixel's shading point, one
+  // store per thread (its vectors grow once, not per chunk of pixels).
+  tbb::combinable<EmitterSetups> emitter_setups;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n_pixels, kPixelGrain), [&](const tbb::blocked_range<size_t>& r) {
     TraceCounters& c = counters.local();
     uint64_t& bad = nonfinite.local();
-    EmitterSetups setups;  // the light strategy's per-emitter set-up at this pixel's shading point
+    EmitterSetups& setups = emitter_setups.local();  // rebound to each pixel's shading point below
     for (size_t pixel = r.begin(); pixel != r.end(); ++pixel) {
       const int px = int(pixel % size_t(image.width));
       const int py = int(pixel / size_t(image.width));
