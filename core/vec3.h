@@ -4,7 +4,9 @@
 // cannot leak into the references.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace furnace {
 
@@ -36,8 +38,11 @@ inline double length_squared(const Vec3& v) { return dot(v, v); }
 inline double length(const Vec3& v) { return std::hypot(v.x, v.y, v.z); }
 inline Vec3 normalize(const Vec3& v) { return v / length(v); }
 inline bool is_finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+// The largest |component|; NaN if any component is NaN. (std::max, not
+// std::fmax: fmax is a libm call here and would drop a NaN.)
 inline double max_abs_component(const Vec3& v) {
-  return std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z)));
+  const double m = std::max(std::fabs(v.x), std::max(std::fabs(v.y), std::fabs(v.z)));
+  return v.x == v.x && v.y == v.y && v.z == v.z ? m : std::numeric_limits<double>::quiet_NaN();
 }
 
 // Angle between two unit vectors by the atan2 form, accurate near 0 and π

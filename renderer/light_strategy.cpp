@@ -71,10 +71,11 @@ EmitterMethod solid_angle_method(const Object& emitter, const Vec3& p, Defect de
 }
 
 // Density in solid angle of direction wi from p reaching the emitter at
-// (point, normal), under `method`, excluding the light selection pmf.
+// (point, normal), under `method`, excluding the light selection pmf;
+// `pdf_area` is the emitter's density in area (AreaSampler::pdf_area).
 // The one helper both LightStrategy::sample and LightStrategy::pdf use.
-double emitter_pdf_solid_angle(const EmitterMethod& method, const Object& emitter, const Vec3& p, const Vec3& wi,
-                               const Vec3& point, const Vec3& normal, Defect defect) {
+double emitter_pdf_solid_angle(const EmitterMethod& method, const Object& emitter, double pdf_area, const Vec3& p,
+                               const Vec3& wi, const Vec3& point, const Vec3& normal, Defect defect) {
   // The solid-angle methods exist only for viewpoints in front of the light
   // (method_at), so every direction they cover meets its emitting side;
   // no cos θ' test for them, which round-off would fail at a sphere's silhouette.
@@ -83,8 +84,7 @@ double emitter_pdf_solid_angle(const EmitterMethod& method, const Object& emitte
                                  // DEFECT(grazing_emitter_cosine): cos θ' raised to kDefectGrazingCosine where it is smaller.
                                  if (defect == Defect::kGrazingEmitterCosine && cos_light > 0)
                                    cos_light = std::fmax(cos_light, kDefectGrazingCosine);
-                                 return solid_angle_pdf_from_area(shape_area_pdf(emitter.shape),
-                                                                  length_squared(point - p), cos_light);
+                                 return solid_angle_pdf_from_area(pdf_area, length_squared(point - p), cos_light);
                                },
                                [&](const ConeSetup& cone) {
                                  return uniform_cone_pdf(cone.frame.local_from_world(wi), cone.aperture);
@@ -126,12 +126,12 @@ std::optional<EmitterPoint> intersect_plane(const Vec3& plane_point, const Vec3&
   return EmitterPoint{p + w * t, normal, w};
 }
 
-// A point on the emitter by `method`.
-std::optional<EmitterPoint> sample_emitter_point(const EmitterMethod& method, const Shape& shape, const Vec3& p,
+// A point on the emitter by `method`; `area` samples the emitter's shape.
+std::optional<EmitterPoint> sample_emitter_point(const EmitterMethod& method, const AreaSampler& area, const Vec3& p,
                                                  double u1, double u2) {
   return std::visit(
       overloaded{[&](std::monostate) -> std::optional<EmitterPoint> {
-                   const AreaSample a = sample_shape_area(shape, u1, u2);
+                   const AreaSample a = area.sample(u1, u2);
                    return EmitterPoint{a.point, a.normal, std::nullopt};
                  },
                  [&](const ConeSetup& cone) {
@@ -143,7 +143,7 @@ std::optional<EmitterPoint> sample_emitter_point(const EmitterMethod& method, co
                  },
                  [&](const SphericalRectangleSampler& rect) -> std::optional<EmitterPoint> {
                    const Vec3 point = rect.sample_point(u1, u2);
-                   return EmitterPoint{point, shape_normal(shape, point), std::nullopt};
+                   return EmitterPoint{point, area.normal_at(point), std::nullopt};
                  }},
       method);
 }
@@ -242,20 +242,22 @@ bool LightStrategy::sample_into(const ShadingContext& ctx, const Uniform3& u, Em
     // A flat light cannot light its own points (they see it edge-on).
     if (self && is_planar(emitter.shape)) return false;
     const EmitterMethod& method = method_at(object, ctx, setups);
-    const auto q = sample_emitter_point(method, emitter.shape, ctx.point, u[1], u[2]);
+    const AreaSampler& area = lights->area_sampler(light);
+    const auto q = sample_emitter_point(method, area, ctx.point, u[1], u[2]);
     if (!q) return false;
     const Vec3 to_light = q->point - ctx.point;
     const double distance_squared = length_squared(to_light);
     if (!(distance_squared > 0)) return false;
     s.wi_world = q->direction ? *q->direction : to_light / std::sqrt(distance_squared);
-    const double emitter_pdf = emitter_pdf_solid_angle(method, emitter, ctx.point, s.wi_world, q->point, q->normal, defect);
+    const double emitter_pdf =
+        emitter_pdf_solid_angle(method, emitter, area.pdf_area(), ctx.point, s.wi_world, q->point, q->normal, defect);
     s.pdf_solid_angle = pmf * emitter_pdf;
     s.radiance = emitter.emitted_radiance;
     pdf_for_weight = pmf_in_weight * emitter_pdf;
     // DEFECT(drop_light_cosine): area sampling converts to solid angle with r² only, forgetting 1/cos θ'.
     if (defect == Defect::kDropLightCosine && std::holds_alternative<std::monostate>(method) &&
         light_cosine(q->normal, s.wi_world, emitter.two_sided) > 0)
-      pdf_for_weight = pmf_in_weight * solid_angle_pdf_from_area(shape_area_pdf(emitter.shape), distance_squared, 1.0);
+      pdf_for_weight = pmf_in_weight * solid_angle_pdf_from_area(area.pdf_area(), distance_squared, 1.0);
     // Shadow ray from the shading point to the light point (the intersection
     // filters keep it off both surfaces).
     s.shadow_origin = ray_origin(ctx.point, ctx.normal, s.wi_world, defect);  // DEFECT(ray_offset_1e4) inside
@@ -286,13 +288,15 @@ double LightStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_world, const
     if (const EnvironmentSampler* map = lights->environment_sampler.get()) return pmf * map->pdf_solid_angle(wi_world);
     return pmf * cosine_hemisphere_pdf(ctx.frame.local_from_world(wi_world));
   }
-  const double pmf = lights->pmf(lights->light_of_object(hit->object));
+  const size_t light = lights->light_of_object(hit->object);
+  const double pmf = lights->pmf(light);
   const Object& o = scene->scene().objects[hit->object];
   if (!o.is_emitter() || !(hit->front_facing || o.two_sided)) return 0.0;
   const bool self = hit->object == ctx.object;
   if (self && is_planar(o.shape)) return 0.0;  // as in sample()
   const EmitterMethod& method = method_at(hit->object, ctx, *setups);
-  return pmf * emitter_pdf_solid_angle(method, o, ctx.point, wi_world, hit->point, hit->normal, defect);
+  return pmf * emitter_pdf_solid_angle(method, o, lights->area_sampler(light).pdf_area(), ctx.point, wi_world,
+                                       hit->point, hit->normal, defect);
 }
 
 double delta_light_mis_weight(const LightSample& s, double p_bsdf, Defect defect) {

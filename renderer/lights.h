@@ -7,11 +7,13 @@
 #include <cstddef>
 #include <memory>
 #include <optional>
+#include <variant>
 #include <vector>
 
 #include "core/scene.h"
 #include "core/strategy.h"
 #include "renderer/environment_sampler.h"
+#include "renderer/sampling.h"
 
 namespace furnace {
 
@@ -22,12 +24,56 @@ struct AreaSample {
   double pdf_area = 0;
 };
 
-// A point uniform on the shape's area: rectangles by the bilinear map, disks
+// Points uniform on one shape's area: rectangles by the bilinear map, disks
 // by the concentric map, triangles by the barycentric warp, spheres by the
-// uniform sphere warp.
-AreaSample sample_shape_area(const Shape& shape, double u1, double u2);
+// uniform sphere warp. The shape's constants (its density 1/area, a flat
+// shape's front normal, a disk's frame) are computed once, at construction:
+// LightSet keeps one sampler per emitter, so no sample recomputes them.
+class AreaSampler {
+ public:
+  explicit AreaSampler(const Shape& shape);
+  AreaSample sample(double u1, double u2) const {
+    return std::visit(
+        overloaded{[&](const Rectangle& r) -> AreaSample {
+                     return {r.corner + r.edge_u * u1 + r.edge_v * u2, normal_, pdf_area_};
+                   },
+                   [&](const Disk& d) -> AreaSample {
+                     const auto xy = sample_uniform_disk_concentric(u1, u2);
+                     return {d.center + frame_.world_from_local({xy[0] * d.radius, xy[1] * d.radius, 0.0}), d.normal,
+                             pdf_area_};
+                   },
+                   [&](const Sphere& s) -> AreaSample {
+                     const Vec3 n = sample_uniform_sphere(u1, u2);
+                     return {s.center + n * s.radius, n, pdf_area_};
+                   },
+                   [&](const Triangle& t) -> AreaSample {
+                     const auto b = sample_uniform_triangle_barycentric(u1, u2);
+                     return {t.p0 * b[0] + t.p1 * b[1] + t.p2 * b[2], normal_, pdf_area_};
+                   }},
+        shape_);
+  }
+  // Density in area of sample(): 1/area on the shape.
+  double pdf_area() const { return pdf_area_; }
+  // The front normal at a point `p` of the shape (core's shape_normal, with a
+  // flat shape's normal computed once).
+  Vec3 normal_at(const Vec3& p) const {
+    if (const Sphere* s = std::get_if<Sphere>(&shape_)) return normalize(p - s->center);
+    return normal_;
+  }
+
+ private:
+  Shape shape_;
+  Vec3 normal_;   // a flat shape's front normal
+  Frame frame_;   // a disk's frame about its normal
+  double pdf_area_ = 0;
+};
+
+// One point by AreaSampler (its constants computed for this call alone).
+inline AreaSample sample_shape_area(const Shape& shape, double u1, double u2) {
+  return AreaSampler(shape).sample(u1, u2);
+}
 // Density in area of sample_shape_area: 1/area on the shape.
-double shape_area_pdf(const Shape& shape);
+inline double shape_area_pdf(const Shape& shape) { return 1.0 / shape_area(shape); }
 
 // THE area → solid-angle conversion (the only place it is written):
 // p_ω = p_A · r² / cos θ', θ' the angle at the light point between its normal
@@ -75,10 +121,13 @@ struct LightSet {
   size_t light_of_object(size_t object) const;
   // Light index from a uniform number in [0, 1), by inversion of the CDF.
   size_t select(double u) const;
+  // The area sampler of emitter light index `light` (< emitters.size()).
+  const AreaSampler& area_sampler(size_t light) const { return area_samplers_[light]; }
   // Emitted power Φ of every light (the formulas above), in light-index order.
   const std::vector<double>& powers() const { return power_; }
 
  private:
+  std::vector<AreaSampler> area_samplers_;  // one per emitter, in light-index order
   std::vector<double> power_, pmf_, cdf_;  // cdf_[i] = Σ_{j ≤ i} pmf_[j], cdf_.back() == 1
 };
 
