@@ -5,10 +5,12 @@
 // and read the summary table printed after Google Benchmark's rows.
 //
 // Every BM_Render iteration renders, then (timing paused) replays the
-// render's rays twice: through rtcIntersect1/rtcOccluded1 alone on a scene
-// without filter functions ("raw", the ceiling), and through
-// EmbreeScene::intersect/occluded ("embree+filters": the exact endpoint
-// filters and the double-precision hit refinement). Ratios are medians over
+// render's rays three times: through rtcIntersect1/rtcOccluded1 alone on a
+// scene without filter functions ("raw", the ceiling), through Embree alone
+// with the render's own packets (the renderer traces each batch of light
+// samples' shadow rays as one rtcOccluded8: "packets"), and through
+// EmbreeScene::intersect/occluded one ray at a time ("+filter": the exact
+// endpoint filters and the double-precision hit refinement). Ratios are medians over
 // iterations of per-iteration ratios, so a load change on a shared machine
 // hits numerator and denominator alike.
 #include <benchmark/benchmark.h>
@@ -21,6 +23,7 @@
 #include <limits>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -133,6 +136,68 @@ uint64_t replay_raw(RTCScene scene, const std::vector<RawRay>& rays) {
   return hits;
 }
 
+// The renderer's packets, as the ray log shows them: runs of up to
+// kRayPacket consecutive shadow rays from one origin (a batch of light samples
+// at one shading point), each a [begin, end) range of `rays`; every other ray
+// is a run of its own.
+std::vector<std::pair<size_t, size_t>> packet_runs(const std::vector<RawRay>& rays) {
+  std::vector<std::pair<size_t, size_t>> runs;
+  for (size_t i = 0; i < rays.size();) {
+    size_t end = i + 1;
+    const RTCRay& a = rays[i].rayhit.ray;
+    while (rays[i].shadow && end < rays.size() && end - i < kRayPacket && rays[end].shadow &&
+           rays[end].rayhit.ray.org_x == a.org_x && rays[end].rayhit.ray.org_y == a.org_y &&
+           rays[end].rayhit.ray.org_z == a.org_z)
+      ++end;
+    runs.emplace_back(i, end);
+    i = end;
+  }
+  return runs;
+}
+
+// Embree alone with the renderer's packets: each run of two or more shadow
+// rays in one rtcOccluded8, every other ray in its own rtcIntersect1 or
+// rtcOccluded1, on a scene without filter functions.
+uint64_t replay_raw_packets(RTCScene scene, const std::vector<RawRay>& rays,
+                            const std::vector<std::pair<size_t, size_t>>& runs) {
+  std::atomic<uint64_t> hits{0};
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, runs.size(), kReplayGrain / 4),
+                    [&](const tbb::blocked_range<size_t>& r) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    uint64_t local = 0;
+    for (size_t g = r.begin(); g != r.end(); ++g) {
+      const auto [begin, end] = runs[g];
+      if (end - begin == 1) {  // a lone ray: one call, as the renderer makes it
+        RTCRayHit rh = rays[begin].rayhit;
+        if (rays[begin].shadow) {
+          rtcOccluded1(scene, &context, &rh.ray);
+          local += rh.ray.tfar < 0;
+        } else {
+          rtcIntersect1(scene, &context, &rh);
+          local += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        }
+        continue;
+      }
+      alignas(32) int valid[kRayPacket] = {};
+      RTCRay8 packet;
+      for (size_t i = begin; i < end; ++i) {
+        const RTCRay& ray = rays[i].rayhit.ray;
+        const size_t k = i - begin;
+        packet.org_x[k] = ray.org_x, packet.org_y[k] = ray.org_y, packet.org_z[k] = ray.org_z;
+        packet.dir_x[k] = ray.dir_x, packet.dir_y[k] = ray.dir_y, packet.dir_z[k] = ray.dir_z;
+        packet.tnear[k] = ray.tnear, packet.tfar[k] = ray.tfar, packet.time[k] = ray.time;
+        packet.mask[k] = ray.mask, packet.id[k] = ray.id, packet.flags[k] = ray.flags;
+        valid[k] = -1;
+      }
+      rtcOccluded8(valid, scene, &context, &packet);
+      for (size_t k = 0; k < end - begin; ++k) local += packet.tfar[k] < 0;
+    }
+    hits += local;
+  });
+  return hits;
+}
+
 // The same rays through furnace's queries: exact endpoint filters, hit refinement.
 uint64_t replay_exact(const EmbreeScene& scene, const std::vector<TracedRay>& rays) {
   std::atomic<uint64_t> hits{0};
@@ -161,7 +226,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 struct SummaryRow {
   double samples_per_second = 0, rays_per_sample = 0, shadow_rays_per_sample = 0;
-  double ceiling_samples_per_second = 0, ratio_to_raw = 0, ratio_to_filtered = 0;
+  double ceiling_samples_per_second = 0, ratio_to_raw = 0, ratio_to_filtered = 0, ratio_to_packets = 0;
 };
 // strategy name → threads → the last run's row (repetitions overwrite).
 std::map<std::string, std::map<int, SummaryRow>>& summary() {
@@ -174,6 +239,7 @@ void BM_Render(benchmark::State& state, Strategy strategy) {
   const Scene& scene = disk_occluder();
   const std::vector<TracedRay>& rays = traced_rays(strategy);
   const std::vector<RawRay> embree_rays = to_embree_rays(rays);
+  const std::vector<std::pair<size_t, size_t>> runs = packet_runs(embree_rays);
   uint64_t shadow_rays = 0;
   for (const TracedRay& r : rays) shadow_rays += r.shadow;
 
@@ -184,7 +250,7 @@ void BM_Render(benchmark::State& state, Strategy strategy) {
   const RenderOptions options = options_for(strategy, threads);
   const double samples = double(scene.camera.width_px) * scene.camera.height_px * kSpp;
 
-  std::vector<double> render_s, raw_s, exact_s, to_raw, to_exact;
+  std::vector<double> render_s, raw_s, exact_s, to_raw, to_exact, to_packets;
   uint64_t rendered_rays = 0;
   for (auto _ : state) {
     auto start = std::chrono::steady_clock::now();
@@ -200,6 +266,9 @@ void BM_Render(benchmark::State& state, Strategy strategy) {
     start = std::chrono::steady_clock::now();
     benchmark::DoNotOptimize(replay_exact(exact_scene, rays));
     exact_s.push_back(seconds_since(start));
+    start = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(replay_raw_packets(raw_scene.rtc_scene(), embree_rays, runs));
+    to_packets.push_back(seconds_since(start) / render_s.back());
     to_raw.push_back(raw_s.back() / render_s.back());
     to_exact.push_back(exact_s.back() / render_s.back());
     state.ResumeTiming();
@@ -213,6 +282,7 @@ void BM_Render(benchmark::State& state, Strategy strategy) {
   row.ceiling_samples_per_second = samples / median(raw_s);
   row.ratio_to_raw = median(to_raw);
   row.ratio_to_filtered = median(to_exact);
+  row.ratio_to_packets = median(to_packets);
   summary()[strategy_name(strategy)][threads] = row;
 
   state.SetItemsProcessed(int64_t(samples * double(state.iterations())));
@@ -220,6 +290,7 @@ void BM_Render(benchmark::State& state, Strategy strategy) {
   state.counters["ceiling_samples_per_s"] = row.ceiling_samples_per_second;
   state.counters["ratio_to_raw_embree"] = row.ratio_to_raw;
   state.counters["ratio_to_embree_filters"] = row.ratio_to_filtered;
+  state.counters["ratio_to_embree_packets"] = row.ratio_to_packets;
 }
 
 // Embree alone on synthetic rays of one kind: from receiver points just above
@@ -275,23 +346,26 @@ void print_summary() {
   if (summary().empty()) return;
   std::printf("\nCeiling: Embree alone on the rays each render traced (disk_occluder, %d spp, seed %llu).\n", kSpp,
               static_cast<unsigned long long>(kSeed));
-  std::printf("%-20s %7s %7s | %11s %11s %8s %8s | %11s %8s %8s | %7s\n", "strategy", "rays", "shadow", "1T Ms/s",
-              "ceil Ms/s", "ratio", "+filter", "2T Ms/s", "ratio", "+filter", "scaling");
+  std::printf("%-20s %7s %7s | %11s %11s %8s %8s %8s | %11s %8s %8s %8s | %7s\n", "strategy", "rays", "shadow",
+              "1T Ms/s", "ceil Ms/s", "ratio", "packets", "+filter", "2T Ms/s", "ratio", "packets", "+filter",
+              "scaling");
   for (const StrategyInfo& info : kStrategyTable) {
     const auto it = summary().find(info.name);
     if (it == summary().end()) continue;
     const auto& by_threads = it->second;
     const SummaryRow one = by_threads.count(1) ? by_threads.at(1) : SummaryRow{};
     const SummaryRow two = by_threads.count(2) ? by_threads.at(2) : SummaryRow{};
-    std::printf("%-20s %7.3f %7.3f | %11.3f %11.3f %8.3f %8.3f | %11.3f %8.3f %8.3f | %7.2f\n", info.name,
-                one.rays_per_sample, one.shadow_rays_per_sample, one.samples_per_second / 1e6,
-                one.ceiling_samples_per_second / 1e6, one.ratio_to_raw, one.ratio_to_filtered,
-                two.samples_per_second / 1e6, two.ratio_to_raw, two.ratio_to_filtered,
+    std::printf("%-20s %7.3f %7.3f | %11.3f %11.3f %8.3f %8.3f %8.3f | %11.3f %8.3f %8.3f %8.3f | %7.2f\n",
+                info.name, one.rays_per_sample, one.shadow_rays_per_sample, one.samples_per_second / 1e6,
+                one.ceiling_samples_per_second / 1e6, one.ratio_to_raw, one.ratio_to_packets, one.ratio_to_filtered,
+                two.samples_per_second / 1e6, two.ratio_to_raw, two.ratio_to_packets, two.ratio_to_filtered,
                 one.samples_per_second > 0 ? two.samples_per_second / one.samples_per_second : 0.0);
   }
   std::printf("rays: rays per sample (camera ray counted once per pixel); shadow: of which occlusion queries.\n"
-              "ratio: render samples/s over Embree-alone samples/s (1 = the ceiling); +filter: over Embree with\n"
-              "furnace's endpoint filters and hit refinement. scaling: 2-thread over 1-thread samples/s.\n");
+              "ratio: render samples/s over Embree-alone samples/s, one ray per call (1 = the ceiling); packets:\n"
+              "over Embree alone with the render's packets (runs of up to 8 shadow rays from one point in one\n"
+              "rtcOccluded8, the rest one per call); +filter: over furnace's own queries, one per call (exact\n"
+              "endpoint filters, hit refinement). scaling: 2-thread over 1-thread samples/s.\n");
 }
 
 }  // namespace

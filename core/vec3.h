@@ -37,6 +37,12 @@ inline double length_squared(const Vec3& v) { return dot(v, v); }
 // hypot-based so that tiny (1e-200) and huge (1e200) vectors neither underflow nor overflow.
 inline double length(const Vec3& v) { return std::hypot(v.x, v.y, v.z); }
 inline Vec3 normalize(const Vec3& v) { return v / length(v); }
+// The same by the square root of the squared length, for vectors of scene
+// scale: coordinates are within ±1e6 (core/scene.h, kMaxCoordinate), so for
+// |v| within 1e±150 the squares neither overflow nor underflow, and the
+// renderer's hot paths skip glibc's 3-argument hypot (three divisions).
+inline double scene_length(const Vec3& v) { return std::sqrt(length_squared(v)); }
+inline Vec3 scene_normalize(const Vec3& v) { return v / scene_length(v); }
 inline bool is_finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 // The largest |component|; NaN if any component is NaN. (std::max, not
 // std::fmax: fmax is a libm call here and would drop a NaN.)

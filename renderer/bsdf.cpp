@@ -7,11 +7,11 @@ namespace furnace {
 namespace {
 
 // Lobe frame around the mirror direction of wo: z = reflect(wo).
-Frame lobe_frame(const Vec3& wo_local) { return Frame::from_normal(normalize(reflect_about_normal(wo_local))); }
+Frame lobe_frame(const Vec3& wo_local) { return Frame::from_normal(scene_normalize(reflect_about_normal(wo_local))); }
 
 // The Phong lobe's cos α for a query, in the lobe frame (shared by eval, sample and pdf).
 double phong_cos_alpha(const Vec3& wo_local, const Vec3& wi_local) {
-  return dot(normalize(reflect_about_normal(wo_local)), wi_local);
+  return dot(scene_normalize(reflect_about_normal(wo_local)), wi_local);
 }
 
 }  // namespace

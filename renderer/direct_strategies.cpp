@@ -1,5 +1,6 @@
 #include "renderer/direct_strategies.h"
 
+#include <algorithm>
 #include <cmath>
 #include <variant>
 
@@ -90,94 +91,184 @@ DirectLighting::DirectLighting(const EmbreeScene& scene, const LightSet& lights,
   light_.defect = defect;
 }
 
+// The batch estimators below do, for each sample i of the batch, what the
+// single-sample estimator of the strategy does, in the same order, so every
+// sample draws the same numbers from rngs[i] and gets the same value. The
+// shadow rays of a batch's light samples are traced together, as one Embree
+// packet (rays from one shading point towards the lights are coherent);
+// sampled directions are traced one by one, as they are drawn: Embree's
+// packets did not make those incoherent rays faster, and keeping them for
+// later cost more than they saved. Light samples are filled in place: copying
+// a whole sample a call just returned through memory stalled the loads.
+
+namespace {
+
+// A batch's light samples, filled in place, and their visibility: the shadow
+// rays of those that need one (not DEFECT(skip_shadow_ray)'s assumed ones)
+// are traced together and counted.
+struct LightBatch {
+  LightSample samples[kRayPacket];  // default-constructed, as LightStrategy::sample requires
+  bool sampled[kRayPacket] = {};    // a sample with a non-zero weight
+  bool visible[kRayPacket] = {};    // after trace()
+  RayArgs rays[kRayPacket];
+  size_t lane[kRayPacket];
+  bool occluded[kRayPacket];
+  size_t m = 0;
+
+  // Draws sample i and queues its shadow ray.
+  void draw(size_t i, const LightStrategy& light, const ShadingContext& ctx, const Uniform3& u,
+            EmitterSetups* setups) {
+    LightSample& s = samples[i];
+    sampled[i] = light.sample(ctx, u, setups, s) && s.weight != 0;
+    if (!sampled[i]) return;
+    visible[i] = s.assume_visible;
+    if (s.assume_visible) return;  // DEFECT(skip_shadow_ray)
+    rays[m] = shadow_ray(s);
+    lane[m++] = i;
+  }
+  void trace(const EmbreeScene& scene, TraceCounters& counters) {
+    counters.rays += m;
+    scene.occluded(rays, m, occluded);
+    for (size_t j = 0; j < m; ++j) visible[lane[j]] = !occluded[j];
+  }
+  // Sample i if it was drawn with a non-zero weight and its light is visible, else nullptr.
+  const LightSample* visible_sample(size_t i) const { return sampled[i] && visible[i] ? &samples[i] : nullptr; }
+};
+
+}  // namespace
+
 template <typename DirectionStrategy>
-double DirectLighting::estimate_direction(const DirectionStrategy& strategy, const ShadingContext& ctx, Rng& rng,
-                                          TraceCounters& counters) const {
-  const auto s = strategy.sample(ctx, next_uniform3(rng));
-  if (!s || s->weight == 0) return 0.0;  // nothing to trace for a zero weight
-  const auto hit = trace_from(scene_, ctx, s->wi_world, counters, defect_);
-  return s->weight * emitted_radiance_towards(scene_.scene(), hit, s->wi_world);
-}
-
-double DirectLighting::estimate_light(const ShadingContext& ctx, Rng& rng, TraceCounters& counters,
-                                      EmitterSetups* setups) const {
-  const auto s = light_.sample(ctx, next_uniform3(rng), setups);
-  if (!s || s->weight == 0) return 0.0;
-  return light_visible(scene_, *s, counters) ? s->weight * s->radiance : 0.0;
-}
-
-double DirectLighting::estimate_mis(const ShadingContext& ctx, Rng& rng, TraceCounters& counters, int beta,
-                                    EmitterSetups* setups) const {
-  const BsdfStrategy bsdf{defect_};
-  double estimate = 0;
-  // One BSDF sample, weighted against the light strategy's density for the same direction.
-  if (const auto s = bsdf.sample(ctx, next_uniform3(rng)); s && s->weight != 0) {
+void DirectLighting::estimate_direction(const DirectionStrategy& strategy, const ShadingContext& ctx, Rng* rngs,
+                                        size_t n, TraceCounters& counters, double* out) const {
+  for (size_t i = 0; i < n; ++i) {
+    out[i] = 0.0;
+    const auto s = strategy.sample(ctx, next_uniform3(rngs[i]));
+    if (!s || s->weight == 0) continue;  // nothing to trace for a zero weight
     const auto hit = trace_from(scene_, ctx, s->wi_world, counters, defect_);
-    const double le = emitted_radiance_towards(scene_.scene(), hit, s->wi_world);
-    if (le > 0) {
-      const double w =
-          s->delta ? 1.0
-                   : mis_weights({s->pdf_solid_angle, light_.pdf(ctx, s->wi_world, hit, setups)}, beta, defect_).w_bsdf;
-      estimate += w * s->weight * le;
-    }
+    out[i] = s->weight * emitted_radiance_towards(scene_.scene(), hit, s->wi_world);
   }
-  // One light sample, weighted against the BSDF's density (0 for a delta BSDF, whose eval is 0 anyway);
-  // a point-light sample only against nothing (weight 1): BSDF sampling never finds it.
-  if (const auto s = light_.sample(ctx, next_uniform3(rng), setups); s && s->weight != 0) {
-    if (light_visible(scene_, *s, counters)) {
-      const double p_bsdf = bsdf.pdf(ctx, s->wi_world);
-      const double w = s->delta ? delta_light_mis_weight(*s, p_bsdf, defect_)
-                                : mis_weights({p_bsdf, s->pdf_solid_angle}, beta, defect_).w_light;
-      estimate += w * s->weight * s->radiance;
-    }
-  }
-  return estimate;
 }
 
-double DirectLighting::estimate_one_sample(const ShadingContext& ctx, Rng& rng, TraceCounters& counters,
-                                           EmitterSetups* setups) const {
+void DirectLighting::estimate_light(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters,
+                                    EmitterSetups* setups, double* out) const {
+  LightBatch light;
+  for (size_t i = 0; i < n; ++i) light.draw(i, light_, ctx, next_uniform3(rngs[i]), setups);
+  light.trace(scene_, counters);
+  for (size_t i = 0; i < n; ++i) {
+    const LightSample* s = light.visible_sample(i);
+    out[i] = s ? s->weight * s->radiance : 0.0;
+  }
+}
+
+void DirectLighting::estimate_mis(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters, int beta,
+                                  EmitterSetups* setups, double* out) const {
+  const BsdfStrategy bsdf{defect_};
+  LightBatch light;
+  for (size_t i = 0; i < n; ++i) {
+    double estimate = 0;
+    // One BSDF sample, weighted against the light strategy's density for the same direction.
+    if (const auto s = bsdf.sample(ctx, next_uniform3(rngs[i])); s && s->weight != 0) {
+      const auto hit = trace_from(scene_, ctx, s->wi_world, counters, defect_);
+      const double le = emitted_radiance_towards(scene_.scene(), hit, s->wi_world);
+      if (le > 0) {
+        const double w =
+            s->delta ? 1.0
+                     : mis_weights({s->pdf_solid_angle, light_.pdf(ctx, s->wi_world, hit, setups)}, beta, defect_).w_bsdf;
+        estimate += w * s->weight * le;
+      }
+    }
+    out[i] = estimate;
+    // One light sample (its shadow ray traced with the batch's).
+    light.draw(i, light_, ctx, next_uniform3(rngs[i]), setups);
+  }
+  light.trace(scene_, counters);
+  for (size_t i = 0; i < n; ++i) {
+    // The light sample, weighted against the BSDF's density (0 for a delta BSDF,
+    // whose eval is 0 anyway); a point-light sample only against nothing
+    // (weight 1): BSDF sampling never finds it.
+    const LightSample* visible = light.visible_sample(i);
+    if (!visible) continue;
+    const LightSample& s = *visible;
+    const double p_bsdf = bsdf.pdf(ctx, s.wi_world);
+    const double w = s.delta ? delta_light_mis_weight(s, p_bsdf, defect_)
+                             : mis_weights({p_bsdf, s.pdf_solid_angle}, beta, defect_).w_light;
+    out[i] += w * s.weight * s.radiance;
+  }
+}
+
+void DirectLighting::estimate_one_sample(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters,
+                                         EmitterSetups* setups, double* out) const {
   const BsdfStrategy bsdf{defect_};
   // DEFECT(one_sample_no_selection_prob): the densities are summed without c and 1 − c.
   const bool forget = defect_ == Defect::kOneSampleNoSelectionProb;
   const double c = forget ? 1.0 : kOneSampleBsdfProbability;
   const double c_light = forget ? 1.0 : 1.0 - kOneSampleBsdfProbability;
-  if (rng.next_double() < kOneSampleBsdfProbability) {
-    const auto s = bsdf.sample(ctx, next_uniform3(rng));
-    if (!s || s->weight == 0) return 0.0;
-    const auto hit = trace_from(scene_, ctx, s->wi_world, counters, defect_);
-    const double le = emitted_radiance_towards(scene_.scene(), hit, s->wi_world);
-    if (!(le > 0)) return 0.0;
-    // A delta lobe: only this strategy covers it, chosen with probability c.
-    if (s->delta) return s->weight * le / c;
-    // weight·p_bsdf = f·cos θ: the estimate f·cos θ·Le/(c·p_bsdf + (1 − c)·p_light).
-    const double p_light = light_.pdf(ctx, s->wi_world, hit, setups);
-    return s->weight * s->pdf_solid_angle * le / (c * s->pdf_solid_angle + c_light * p_light);
+  LightBatch light;  // the samples that chose the light strategy, weighed once their shadow rays are traced
+  for (size_t i = 0; i < n; ++i) {
+    out[i] = 0.0;
+    if (rngs[i].next_double() < kOneSampleBsdfProbability) {
+      const auto s = bsdf.sample(ctx, next_uniform3(rngs[i]));
+      if (!s || s->weight == 0) continue;
+      const auto hit = trace_from(scene_, ctx, s->wi_world, counters, defect_);
+      const double le = emitted_radiance_towards(scene_.scene(), hit, s->wi_world);
+      if (!(le > 0)) continue;
+      // A delta lobe: only this strategy covers it, chosen with probability c.
+      if (s->delta) {
+        out[i] = s->weight * le / c;
+        continue;
+      }
+      // weight·p_bsdf = f·cos θ: the estimate f·cos θ·Le/(c·p_bsdf + (1 − c)·p_light).
+      const double p_light = light_.pdf(ctx, s->wi_world, hit, setups);
+      out[i] = s->weight * s->pdf_solid_angle * le / (c * s->pdf_solid_angle + c_light * p_light);
+      continue;
+    }
+    light.draw(i, light_, ctx, next_uniform3(rngs[i]), setups);
   }
-  const auto s = light_.sample(ctx, next_uniform3(rng), setups);
-  if (!s || s->weight == 0 || !light_visible(scene_, *s, counters)) return 0.0;
-  // A point light: only this strategy covers it, chosen with probability 1 − c.
-  if (s->delta) return s->weight * s->radiance / c_light;
-  const double p_bsdf = bsdf.pdf(ctx, s->wi_world);
-  return s->weight * s->pdf_solid_angle * s->radiance / (c * p_bsdf + c_light * s->pdf_solid_angle);
+  light.trace(scene_, counters);
+  for (size_t i = 0; i < n; ++i) {
+    const LightSample* visible = light.visible_sample(i);
+    if (!visible) continue;
+    const LightSample& s = *visible;
+    // A point light: only this strategy covers it, chosen with probability 1 − c.
+    if (s.delta) {
+      out[i] = s.weight * s.radiance / c_light;
+      continue;
+    }
+    const double p_bsdf = bsdf.pdf(ctx, s.wi_world);
+    out[i] = s.weight * s.pdf_solid_angle * s.radiance / (c * p_bsdf + c_light * s.pdf_solid_angle);
+  }
 }
 
 double DirectLighting::estimate(const ShadingContext& ctx, Rng& rng, TraceCounters& counters,
                                 EmitterSetups* setups) const {
-  if (ctx.bsdf.is_black()) return 0.0;
+  double out = 0;
+  estimate(ctx, &rng, 1, counters, setups, &out);
+  return out;
+}
+
+void DirectLighting::estimate(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters,
+                              EmitterSetups* setups, double* out) const {
+  FURNACE_CHECK(n <= kRayPacket);
+  if (ctx.bsdf.is_black()) {
+    std::fill(out, out + n, 0.0);
+    return;
+  }
   switch (strategy_) {
-    case Strategy::kUniformHemisphere: return estimate_direction(UniformHemisphereStrategy{defect_}, ctx, rng, counters);
-    case Strategy::kCosineHemisphere: return estimate_direction(CosineHemisphereStrategy{defect_}, ctx, rng, counters);
-    case Strategy::kBsdf: return estimate_direction(BsdfStrategy{defect_}, ctx, rng, counters);
+    case Strategy::kUniformHemisphere:
+      return estimate_direction(UniformHemisphereStrategy{defect_}, ctx, rngs, n, counters, out);
+    case Strategy::kCosineHemisphere:
+      return estimate_direction(CosineHemisphereStrategy{defect_}, ctx, rngs, n, counters, out);
+    case Strategy::kBsdf: return estimate_direction(BsdfStrategy{defect_}, ctx, rngs, n, counters, out);
     case Strategy::kLightArea:
-    case Strategy::kLightSolidAngle: return estimate_light(ctx, rng, counters, setups);
+    case Strategy::kLightSolidAngle: return estimate_light(ctx, rngs, n, counters, setups, out);
     case Strategy::kMisBalance:
-    case Strategy::kMisPower: return estimate_mis(ctx, rng, counters, strategy_info(strategy_).mis_beta, setups);
-    case Strategy::kMisOneSample: return estimate_one_sample(ctx, rng, counters, setups);
+    case Strategy::kMisPower:
+      return estimate_mis(ctx, rngs, n, counters, strategy_info(strategy_).mis_beta, setups, out);
+    case Strategy::kMisOneSample: return estimate_one_sample(ctx, rngs, n, counters, setups, out);
     case Strategy::kPathNaive:
     case Strategy::kPathMis: break;
   }
   FURNACE_CHECK(false && "DirectLighting::estimate called with a path-tracing strategy");
-  return 0.0;
 }
 
 }  // namespace furnace

@@ -70,24 +70,31 @@ class DirectLighting {
   // between the samples of one shading point (EmitterSetups; same results).
   double estimate(const ShadingContext& ctx, Rng& rng, TraceCounters& counters,
                   EmitterSetups* setups = nullptr) const;
+  // n ≤ kRayPacket samples at once: out[i] is estimate(ctx, rngs[i], …) to
+  // the bit (each sample draws from its own stream in the same order), and
+  // the samples' rays go to Embree as packets (EmbreeScene's batch queries).
+  void estimate(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters, EmitterSetups* setups,
+                double* out) const;
   // Both strategies' densities of wi_world at ctx (the ray along it found
   // `hit`), exactly as estimate_mis() weighs its samples. For tests of MIS.
   MisPdfs mis_pdfs(const ShadingContext& ctx, const Vec3& wi_world, const std::optional<SurfaceHit>& hit) const;
 
  private:
+  // Each fills out[0..n) for the samples of rngs[0..n).
   template <typename DirectionStrategy>
-  double estimate_direction(const DirectionStrategy& s, const ShadingContext& ctx, Rng& rng,
-                            TraceCounters& counters) const;
-  double estimate_light(const ShadingContext& ctx, Rng& rng, TraceCounters& counters, EmitterSetups* setups) const;
-  double estimate_mis(const ShadingContext& ctx, Rng& rng, TraceCounters& counters, int beta,
-                      EmitterSetups* setups) const;
+  void estimate_direction(const DirectionStrategy& s, const ShadingContext& ctx, Rng* rngs, size_t n,
+                          TraceCounters& counters, double* out) const;
+  void estimate_light(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters,
+                      EmitterSetups* setups, double* out) const;
+  void estimate_mis(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters, int beta,
+                    EmitterSetups* setups, double* out) const;
   // mis_one_sample: Veach's one-sample model (1997, §9.2.4) with the balance
   // heuristic. Strategy i ∈ {bsdf, light} is chosen with probability c_i and
   // its sample X gives f(X)·Li(X)·cos θ / Σ_j c_j·p_j(X); a delta sample (a
   // mirror lobe, a point light) is covered by its own strategy only and gives
   // weight·Li/c_i. DEFECT(one_sample_no_selection_prob) drops the c_j.
-  double estimate_one_sample(const ShadingContext& ctx, Rng& rng, TraceCounters& counters,
-                             EmitterSetups* setups) const;
+  void estimate_one_sample(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters,
+                           EmitterSetups* setups, double* out) const;
 
   const EmbreeScene& scene_;
   const LightSet& lights_;

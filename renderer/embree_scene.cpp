@@ -359,6 +359,59 @@ bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, double t_m
   return ray.tfar == -std::numeric_limits<float>::infinity();
 }
 
+namespace {
+
+// Lane `i` of an Embree packet from a single ray.
+template <typename Packet>
+void set_lane(Packet& p, size_t i, const RTCRay& r) {
+  p.org_x[i] = r.org_x;
+  p.org_y[i] = r.org_y;
+  p.org_z[i] = r.org_z;
+  p.tnear[i] = r.tnear;
+  p.dir_x[i] = r.dir_x;
+  p.dir_y[i] = r.dir_y;
+  p.dir_z[i] = r.dir_z;
+  p.time[i] = r.time;
+  p.tfar[i] = r.tfar;
+  p.mask[i] = r.mask;
+  p.id[i] = r.id;
+  p.flags[i] = r.flags;
+}
+
+}  // namespace
+
+void EmbreeScene::occluded(const RayArgs* rays, size_t n, bool* occluded) const {
+  FURNACE_CHECK(n <= kRayPacket);
+  if (n == 1) {  // a packet of one lane costs Embree more than a single ray
+    occluded[0] = this->occluded(rays[0].origin, rays[0].direction, rays[0].t_max, rays[0].ends);
+    return;
+  }
+  alignas(32) int valid[kRayPacket] = {};
+  RTCRay8 packet;
+  RTCIntersectContext context;  // no filter: the packet's lanes exclude their endpoint surfaces by mask
+  rtcInitIntersectContext(&context);
+  bool any = false;
+  for (size_t i = 0; i < n; ++i) {
+    const RayArgs& r = rays[i];
+    const RayQuery query(this, r.origin, r.direction, r.t_max);
+    const std::optional<unsigned> mask = endpoint_mask(query, r.ends);
+    if (!mask) {
+      occluded[i] = this->occluded(r.origin, r.direction, r.t_max, r.ends);  // the filter decides
+      continue;
+    }
+    if (ray_log_) ray_log_->push_back({r.origin, r.direction, r.t_max, true, r.ends});
+    RTCRay ray = make_ray(r.origin, r.direction, r.t_max);
+    ray.mask = *mask;
+    set_lane(packet, i, ray);
+    valid[i] = -1;
+    any = true;
+  }
+  if (!any) return;
+  rtcOccluded8(valid, rtc_scene_, &context, &packet);
+  for (size_t i = 0; i < n; ++i)
+    if (valid[i]) occluded[i] = packet.tfar[i] == -std::numeric_limits<float>::infinity();
+}
+
 SurfaceHit EmbreeScene::refine(size_t object, const Vec3& origin, const Vec3& direction, double t_float) const {
   SurfaceHit hit;
   hit.object = object;
@@ -384,7 +437,7 @@ SurfaceHit EmbreeScene::refine(size_t object, const Vec3& origin, const Vec3& di
                           const double root = std::sqrt(std::fmax(disc, 0.0));  // grazing hits: round-off below 0
                           const double t_near = -b - root, t_far = -b + root;
                           hit.t = std::fabs(t_near - t_float) <= std::fabs(t_far - t_float) ? t_near : t_far;
-                          const Vec3 n = normalize(origin + direction * hit.t - s.center);
+                          const Vec3 n = scene_normalize(origin + direction * hit.t - s.center);
                           hit.point = s.center + n * s.radius;
                           hit.normal = n;
                         }},
@@ -397,7 +450,7 @@ bool EmbreeScene::on_surface(size_t object, const Vec3& x) const {
   const double tolerance = kOnSurfaceRelative * (max_abs_component(x) + object_extent_[object]);
   return std::visit(
       overloaded{[&](const Plane& plane) { return std::fabs(dot(x - plane.point, plane.normal)) <= tolerance; },
-                 [&](const Sphere& s) { return std::fabs(length(x - s.center) - s.radius) <= tolerance; }},
+                 [&](const Sphere& s) { return std::fabs(scene_length(x - s.center) - s.radius) <= tolerance; }},
       surface_[object]);
 }
 

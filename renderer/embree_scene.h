@@ -81,6 +81,15 @@ struct TracedRay {
   RayEnds ends;
 };
 
+// The arguments of one intersect() or occluded() query (the batch occluded()).
+struct RayArgs {
+  Vec3 origin, direction;  // direction unit, origin finite
+  double t_max = std::numeric_limits<double>::infinity();
+  RayEnds ends;
+};
+// The most queries a batch takes: one Embree packet of 8 rays.
+inline constexpr size_t kRayPacket = 8;
+
 // Whether the scene rejects the surfaces a ray starts and ends on (see the
 // file comment). Only kExactEndpoints is correct for rendering; kNone leaves
 // Embree's geometry without filter functions, for raw-throughput benchmarks
@@ -102,6 +111,12 @@ class EmbreeScene {
                                       const RayEnds& ends = {}) const;
   // True if anything lies on the open segment origin + t·direction, t in (0, t_max).
   bool occluded(const Vec3& origin, const Vec3& direction, double t_max, const RayEnds& ends = {}) const;
+  // occluded() of n ≤ kRayPacket segments at once: those whose endpoint
+  // surfaces the ray mask excludes go to Embree as one packet (rtcOccluded8;
+  // shadow rays from one shading point to the lights are coherent), the
+  // others one at a time through the filter, as does a batch of one. Results
+  // equal those of n single queries (tests/renderer/embree_scene_test.cpp).
+  void occluded(const RayArgs* rays, size_t n, bool* occluded) const;
 
   const Scene& scene() const { return scene_; }
   // The committed Embree scene, for raw-throughput benchmarks only: a plain

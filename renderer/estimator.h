@@ -100,13 +100,19 @@ inline Vec3 ray_origin(const Vec3& point, const Vec3& normal, const Vec3& direct
   return point + (dot(normal, direction) >= 0 ? normal : -normal) * kDefectRayOffset;
 }
 
+// The ray of a sampled direction from the shading point, unbounded.
+inline RayArgs ray_from(const ShadingContext& ctx, const Vec3& wi_world, Defect defect) {
+  return {ray_origin(ctx.point, ctx.normal, wi_world, defect), wi_world, std::numeric_limits<double>::infinity(),
+          RayEnds{ctx.object, RayEnds::kNone}};
+}
+
 // Traces the ray of a sampled direction from the shading point; returns the
 // first hit (empty on escape). Counts one ray.
 inline std::optional<SurfaceHit> trace_from(const EmbreeScene& scene, const ShadingContext& ctx, const Vec3& wi_world,
                                             TraceCounters& counters, Defect defect = Defect::kNone) {
   ++counters.rays;
-  return scene.intersect(ray_origin(ctx.point, ctx.normal, wi_world, defect), wi_world,
-                         std::numeric_limits<double>::infinity(), RayEnds{ctx.object, RayEnds::kNone});
+  const RayArgs ray = ray_from(ctx, wi_world, defect);
+  return scene.intersect(ray.origin, ray.direction, ray.t_max, ray.ends);
 }
 
 // MIS weight of strategy a against b (one sample each), β = 1 (balance) or 2 (power).

@@ -104,48 +104,54 @@ struct EmitterPoint {
 
 // First intersection of p + t·w (t > 0) with the sphere, exact in double
 // precision; the discriminant in the form r² − |oc − (oc·w)w|², which does not
-// cancel for far-away spheres.
-std::optional<EmitterPoint> intersect_sphere(const Sphere& s, const Vec3& p, const Vec3& w) {
+// cancel for far-away spheres. False if the ray misses.
+bool intersect_sphere(const Sphere& s, const Vec3& p, const Vec3& w, EmitterPoint& q) {
   const Vec3 oc = p - s.center;
   const double b = dot(oc, w);
   const Vec3 perpendicular = oc - w * b;
   const double disc = s.radius * s.radius - length_squared(perpendicular);
   const double root = std::sqrt(std::fmax(disc, 0.0));  // rim directions of the cone: round-off below 0
   const double t = -b - root;
-  if (!(t > 0)) return std::nullopt;
-  const Vec3 n = normalize(p + w * t - s.center);
-  return EmitterPoint{s.center + n * s.radius, n, w};
+  if (!(t > 0)) return false;
+  const Vec3 n = scene_normalize(p + w * t - s.center);
+  q = EmitterPoint{s.center + n * s.radius, n, w};
+  return true;
 }
 
-std::optional<EmitterPoint> intersect_plane(const Vec3& plane_point, const Vec3& normal, const Vec3& p,
-                                            const Vec3& w) {
+bool intersect_plane(const Vec3& plane_point, const Vec3& normal, const Vec3& p, const Vec3& w, EmitterPoint& q) {
   const double denom = dot(w, normal);
-  if (denom == 0) return std::nullopt;
+  if (denom == 0) return false;
   const double t = dot(plane_point - p, normal) / denom;
-  if (!(t > 0)) return std::nullopt;
-  return EmitterPoint{p + w * t, normal, w};
+  if (!(t > 0)) return false;
+  q = EmitterPoint{p + w * t, normal, w};
+  return true;
 }
 
-// A point on the emitter by `method`; `area` samples the emitter's shape.
-std::optional<EmitterPoint> sample_emitter_point(const EmitterMethod& method, const AreaSampler& area, const Vec3& p,
-                                                 double u1, double u2) {
-  return std::visit(
-      overloaded{[&](std::monostate) -> std::optional<EmitterPoint> {
-                   const AreaSample a = area.sample(u1, u2);
-                   return EmitterPoint{a.point, a.normal, std::nullopt};
-                 },
-                 [&](const ConeSetup& cone) {
-                   const Vec3 w = cone.frame.world_from_local(sample_uniform_cone(u1, u2, cone.aperture));
-                   return intersect_sphere(cone.sphere, p, w);
-                 },
-                 [&](const SphericalTriangleSampler& tri) {
-                   return intersect_plane(tri.triangle.p0, tri.triangle.normal(), p, tri.sample(u1, u2));
-                 },
-                 [&](const SphericalRectangleSampler& rect) -> std::optional<EmitterPoint> {
-                   const Vec3 point = rect.sample_point(u1, u2);
-                   return EmitterPoint{point, area.normal_at(point), std::nullopt};
-                 }},
-      method);
+// A point on the emitter by `method` into `q`; `area` samples the emitter's
+// shape. False if the method finds none. (get_if, not std::visit: visit's
+// returned value went through memory, and reading it back stalled the light
+// strategies' profile; EmitterMethod's four alternatives are all handled.)
+bool sample_emitter_point(const EmitterMethod& method, const AreaSampler& area, const Vec3& p, double u1, double u2,
+                          EmitterPoint& q) {
+  static_assert(std::variant_size_v<EmitterMethod> == 4, "sample_emitter_point handles every EmitterMethod");
+  if (std::holds_alternative<std::monostate>(method)) {
+    const AreaSample a = area.sample(u1, u2);
+    q.point = a.point;
+    q.normal = a.normal;
+    q.direction.reset();
+    return true;
+  }
+  if (const auto* cone = std::get_if<ConeSetup>(&method)) {
+    const Vec3 w = cone->frame.world_from_local(sample_uniform_cone(u1, u2, cone->aperture));
+    return intersect_sphere(cone->sphere, p, w, q);
+  }
+  if (const auto* tri = std::get_if<SphericalTriangleSampler>(&method))
+    return intersect_plane(tri->triangle.p0, tri->triangle.normal(), p, tri->sample(u1, u2), q);
+  const auto& rect = std::get<SphericalRectangleSampler>(method);
+  q.point = rect.sample_point(u1, u2);
+  q.normal = area.normal_at(q.point);
+  q.direction.reset();
+  return true;
 }
 
 }  // namespace
@@ -183,6 +189,12 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
   return result;
 }
 
+bool LightStrategy::sample(const ShadingContext& ctx, const Uniform3& u, EmitterSetups* setups, LightSample& s) const {
+  if (setups) return sample_into(ctx, u, *setups, s);
+  EmitterSetups unbound;
+  return sample_into(ctx, u, unbound, s);
+}
+
 bool LightStrategy::sample_into(const ShadingContext& ctx, const Uniform3& u, EmitterSetups& setups,
                                 LightSample& s) const {
   if (lights->count() == 0) return false;
@@ -204,7 +216,7 @@ bool LightStrategy::sample_into(const ShadingContext& ctx, const Uniform3& u, Em
     s.radiance = point.intensity / distance_squared;
     s.shadow_origin = ray_origin(ctx.point, ctx.normal, s.wi_world, defect);  // DEFECT(ray_offset_1e4) inside
     const Vec3 segment = point.position - s.shadow_origin;
-    s.shadow_t_max = length(segment);
+    s.shadow_t_max = scene_length(segment);
     if (!(s.shadow_t_max > 0)) return false;
     s.shadow_direction = segment / s.shadow_t_max;
     s.shadow_ends = RayEnds{ctx.object, RayEnds::kNone};  // no object to name for the end: the filter decides
@@ -243,27 +255,34 @@ bool LightStrategy::sample_into(const ShadingContext& ctx, const Uniform3& u, Em
     if (self && is_planar(emitter.shape)) return false;
     const EmitterMethod& method = method_at(object, ctx, setups);
     const AreaSampler& area = lights->area_sampler(light);
-    const auto q = sample_emitter_point(method, area, ctx.point, u[1], u[2]);
-    if (!q) return false;
-    const Vec3 to_light = q->point - ctx.point;
+    EmitterPoint q;
+    if (!sample_emitter_point(method, area, ctx.point, u[1], u[2], q)) return false;
+    const Vec3 to_light = q.point - ctx.point;
     const double distance_squared = length_squared(to_light);
     if (!(distance_squared > 0)) return false;
-    s.wi_world = q->direction ? *q->direction : to_light / std::sqrt(distance_squared);
+    const double distance = std::sqrt(distance_squared);
+    s.wi_world = q.direction ? *q.direction : to_light * (1.0 / distance);
     const double emitter_pdf =
-        emitter_pdf_solid_angle(method, emitter, area.pdf_area(), ctx.point, s.wi_world, q->point, q->normal, defect);
+        emitter_pdf_solid_angle(method, emitter, area.pdf_area(), ctx.point, s.wi_world, q.point, q.normal, defect);
     s.pdf_solid_angle = pmf * emitter_pdf;
     s.radiance = emitter.emitted_radiance;
     pdf_for_weight = pmf_in_weight * emitter_pdf;
     // DEFECT(drop_light_cosine): area sampling converts to solid angle with r² only, forgetting 1/cos θ'.
     if (defect == Defect::kDropLightCosine && std::holds_alternative<std::monostate>(method) &&
-        light_cosine(q->normal, s.wi_world, emitter.two_sided) > 0)
+        light_cosine(q.normal, s.wi_world, emitter.two_sided) > 0)
       pdf_for_weight = pmf_in_weight * solid_angle_pdf_from_area(area.pdf_area(), distance_squared, 1.0);
     // Shadow ray from the shading point to the light point (the intersection
     // filters keep it off both surfaces).
     s.shadow_origin = ray_origin(ctx.point, ctx.normal, s.wi_world, defect);  // DEFECT(ray_offset_1e4) inside
-    const Vec3 segment = q->point - s.shadow_origin;
-    s.shadow_t_max = length(segment);
-    s.shadow_direction = segment / s.shadow_t_max;
+    if (s.shadow_origin == ctx.point) {
+      // The segment is to_light: its length and direction are known already.
+      s.shadow_t_max = distance;
+      s.shadow_direction = q.direction ? to_light * (1.0 / distance) : s.wi_world;
+    } else {
+      const Vec3 segment = q.point - s.shadow_origin;
+      s.shadow_t_max = scene_length(segment);
+      s.shadow_direction = segment / s.shadow_t_max;
+    }
     s.shadow_ends = RayEnds{ctx.object, object};
   }
   if (!(s.pdf_solid_angle > 0)) return false;  // back of a one-sided light, or a grazing point
@@ -308,7 +327,8 @@ double delta_light_mis_weight(const LightSample& s, double p_bsdf, Defect defect
 bool light_visible(const EmbreeScene& scene, const LightSample& s, TraceCounters& counters) {
   if (s.assume_visible) return true;  // DEFECT(skip_shadow_ray)
   ++counters.rays;
-  return !scene.occluded(s.shadow_origin, s.shadow_direction, s.shadow_t_max, s.shadow_ends);
+  const RayArgs ray = shadow_ray(s);
+  return !scene.occluded(ray.origin, ray.direction, ray.t_max, ray.ends);
 }
 
 }  // namespace furnace

@@ -98,6 +98,9 @@ struct LightStrategy {
   // `setups`, when given and bound to ctx's point, keeps the emitters' methods
   // between calls (EmitterSetups); it never changes a result.
   std::optional<LightSample> sample(const ShadingContext& ctx, const Uniform3& u, EmitterSetups* setups = nullptr) const;
+  // The same sample filled in place into `s`, which must be default-constructed
+  // (for callers that keep several); false: no sample (`s` then unspecified).
+  bool sample(const ShadingContext& ctx, const Uniform3& u, EmitterSetups* setups, LightSample& s) const;
   // Density in solid angle of sampling direction wi, whose ray found `hit`
   // (empty: it escaped). Used by MIS for directions drawn by another strategy.
   double pdf(const ShadingContext& ctx, const Vec3& wi_world, const std::optional<SurfaceHit>& hit,
@@ -121,5 +124,9 @@ double delta_light_mis_weight(const LightSample& s, double p_bsdf, Defect defect
 
 // Whether a light sample's light is visible (always true under DEFECT(skip_shadow_ray)).
 bool light_visible(const EmbreeScene& scene, const LightSample& s, TraceCounters& counters);
+// The shadow ray light_visible() traces for `s` (unless s.assume_visible).
+inline RayArgs shadow_ray(const LightSample& s) {
+  return {s.shadow_origin, s.shadow_direction, s.shadow_t_max, s.shadow_ends};
+}
 
 }  // namespace furnace

@@ -3,10 +3,13 @@
 // the thread count or the schedule.
 #include "renderer/render.h"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <utility>
 #include <variant>
 
 #include <fmt/format.h>
@@ -29,6 +32,15 @@ namespace {
 // Smallest TBB task, in pixels: one pixel already holds spp samples of work, so
 // the auto partitioner may split down to single pixels (tiny test images too).
 constexpr size_t kPixelGrain = 1;
+
+// The streams of samples first … first + kRayPacket − 1 of a pixel.
+template <size_t... I>
+std::array<Rng, sizeof...(I)> streams(uint64_t pixel_key, uint64_t first, std::index_sequence<I...>) {
+  return {Rng::for_sample(pixel_key, first + I)...};
+}
+std::array<Rng, kRayPacket> streams(uint64_t pixel_key, uint64_t first) {
+  return streams(pixel_key, first, std::make_index_sequence<kRayPacket>{});
+}
 
 }  // namespace
 
@@ -112,19 +124,34 @@ Image render(const Scene& scene, const RenderOptions& options) {
         ctx = ShadingContext::at(*hit, -ray.direction, scene.objects[hit->object].material, options.defect);
         setups.bind(*ctx, scene.objects.size());
       }
-      PixelMoments& moments = image.pixels[pixel];
+      // Accumulated in a local, stored once: the image's element, reached
+      // through a reference the estimator calls might alias, would be loaded
+      // and stored around every sample.
+      PixelMoments moments;
       const uint64_t pixel_key = Rng::pixel_key(options.seed, pixel);
-      for (int s = 0; s < options.spp; ++s) {
-        Rng rng = Rng::for_sample(pixel_key, uint64_t(s));
-        double y;
-        if (path) y = path_tracer.radiance(ray.direction, hit, rng, c, &setups);
-        else y = ctx ? le + direct.estimate(*ctx, rng, c, &setups) : le;
-        // DEFECT(nan_sample): a fixed 1/1024 of the (pixel, sample) pairs runs away.
-        if (options.defect == Defect::kNanSample && (pixel + size_t(s)) % 1024 == 0)
-          y = std::numeric_limits<double>::quiet_NaN();
-        if (std::isfinite(y)) moments.add(y);
-        else ++bad;  // error tier 3: dropped and counted
+      // Samples kRayPacket at a time, each from its own stream, accumulated in
+      // sample order: direct lighting traces a batch's rays as Embree packets.
+      for (int first = 0; first < options.spp; first += int(kRayPacket)) {
+        const size_t n = std::min(kRayPacket, size_t(options.spp - first));
+        std::array<Rng, kRayPacket> rngs = streams(pixel_key, uint64_t(first));
+        std::array<double, kRayPacket> y;
+        if (path) {
+          for (size_t i = 0; i < n; ++i) y[i] = path_tracer.radiance(ray.direction, hit, rngs[i], c, &setups);
+        } else if (ctx) {
+          direct.estimate(*ctx, rngs.data(), n, c, &setups, y.data());
+          for (size_t i = 0; i < n; ++i) y[i] = le + y[i];
+        } else {
+          y.fill(le);
+        }
+        for (size_t i = 0; i < n; ++i) {
+          // DEFECT(nan_sample): a fixed 1/1024 of the (pixel, sample) pairs runs away.
+          if (options.defect == Defect::kNanSample && (pixel + size_t(first) + i) % 1024 == 0)
+            y[i] = std::numeric_limits<double>::quiet_NaN();
+          if (std::isfinite(y[i])) moments.add(y[i]);
+          else ++bad;  // error tier 3: dropped and counted
+        }
       }
+      image.pixels[pixel] = moments;
     }
   });
   device.check(fmt::format("rendering the scene '{}'", scene.name));

@@ -11,13 +11,12 @@ namespace {
 
 double safe_sqrt(double x) { return std::sqrt(std::max(0.0, x)); }
 
-// v/|v| by sqrt of the squared length: these are differences and cross
-// products of scene-scale vectors (|v| far inside 1e±150), so the overflow
-// protection of core's hypot-based normalize() is not needed here, and glibc's
-// 3-argument hypot dominated the profile of rectangle-lit path tracing.
-Vec3 unit(const Vec3& v) { return v / std::sqrt(length_squared(v)); }
+// v/|v| by core's scene_normalize: these are differences and cross products
+// of scene-scale vectors, and glibc's 3-argument hypot dominated the profile
+// of rectangle-lit path tracing.
+Vec3 unit(const Vec3& v) { return scene_normalize(v); }
 // Angle between unit vectors, atan2 form (accurate near 0 and π), without hypot.
-double angle_of(const Vec3& a, const Vec3& b) { return std::atan2(std::sqrt(length_squared(cross(a, b))), dot(a, b)); }
+double angle_of(const Vec3& a, const Vec3& b) { return std::atan2(scene_length(cross(a, b)), dot(a, b)); }
 
 // Unit component of v orthogonal to the unit vector a.
 Vec3 orthogonal_part(const Vec3& v, const Vec3& a) { return unit(v - a * dot(v, a)); }
@@ -93,19 +92,19 @@ std::optional<SphericalRectangleSampler> SphericalRectangleSampler::make(const R
   s.y0 = dot(d, s.y);
   s.x1 = s.x0 + len_u;
   s.y1 = s.y0 + len_v;
-  // The four corners relative to origin and the normals of the great circles through adjacent pairs.
-  const Vec3 v00{s.x0, s.y0, s.z0}, v01{s.x0, s.y1, s.z0}, v10{s.x1, s.y0, s.z0}, v11{s.x1, s.y1, s.z0};
-  const Vec3 n0 = unit(cross(v00, v10));
-  const Vec3 n1 = unit(cross(v10, v11));
-  const Vec3 n2 = unit(cross(v11, v01));
-  const Vec3 n3 = unit(cross(v01, v00));
-  // Interior angles of the spherical quadrilateral: π minus the angle between adjacent normals.
-  const double g0 = angle_of(-n0, n1);
-  const double g1 = angle_of(-n1, n2);
-  const double g2 = angle_of(-n2, n3);
-  const double g3 = angle_of(-n3, n0);
-  s.b0 = n0.z;
-  s.b1 = n2.z;
+  // The great circles through adjacent corners v00 = (x0, y0, z0), v10, v11,
+  // v01 have the normals n0 ∝ (0, z0, −y0), n1 ∝ (−z0, 0, x1),
+  // n2 ∝ (0, −z0, y1), n3 ∝ (z0, 0, −x0) (Ureña et al.), and the interior
+  // angle at a corner v, π minus the angle between its two normals, is
+  // atan2(|z0|·|v|, a product of two coordinates): the normals' lengths cancel
+  // in atan2, so no normal is normalised.
+  const double z0_abs = -s.z0, z0_2 = s.z0 * s.z0;
+  const double g0 = std::atan2(z0_abs * std::sqrt(s.x1 * s.x1 + s.y0 * s.y0 + z0_2), s.y0 * s.x1);   // at v10
+  const double g1 = std::atan2(z0_abs * std::sqrt(s.x1 * s.x1 + s.y1 * s.y1 + z0_2), -s.x1 * s.y1);  // at v11
+  const double g2 = std::atan2(z0_abs * std::sqrt(s.x0 * s.x0 + s.y1 * s.y1 + z0_2), s.x0 * s.y1);   // at v01
+  const double g3 = std::atan2(z0_abs * std::sqrt(s.x0 * s.x0 + s.y0 * s.y0 + z0_2), -s.x0 * s.y0);  // at v00
+  s.b0 = -s.y0 / std::sqrt(z0_2 + s.y0 * s.y0);  // n0.z
+  s.b1 = s.y1 / std::sqrt(z0_2 + s.y1 * s.y1);   // n2.z
   s.k = kTwoPi - g2 - g3;
   s.solid_angle = g0 + g1 - s.k;
   if (!(s.solid_angle >= kMinSampledSolidAngle)) return std::nullopt;
@@ -119,9 +118,10 @@ Vec3 SphericalRectangleSampler::sample_point(double u1, double u2) const {
   const double fu = (std::cos(au) * b0 - b1) / std::sin(au);
   const double cu = std::clamp(std::copysign(1.0, fu) / std::sqrt(fu * fu + b0 * b0), -1.0, 1.0);
   const double xu = std::clamp(-(cu * z0) / safe_sqrt((1.0 - cu) * (1.0 + cu)), x0, x1);
-  const double dist = std::hypot(xu, z0);
-  const double h0 = y0 / std::hypot(dist, y0);
-  const double h1 = y1 / std::hypot(dist, y1);
+  // Lengths by sqrt of sums of squares: scene-scale coordinates (core/vec3.h, scene_length).
+  const double dist = std::sqrt(xu * xu + z0 * z0);
+  const double h0 = y0 / std::sqrt(dist * dist + y0 * y0);
+  const double h1 = y1 / std::sqrt(dist * dist + y1 * y1);
   const double hv = h0 + u2 * (h1 - h0);
   const double one_minus_hv2 = (1.0 - hv) * (1.0 + hv);
   const double yv = one_minus_hv2 > 0 ? std::clamp(hv * dist / std::sqrt(one_minus_hv2), y0, y1) : y1;
@@ -141,10 +141,10 @@ std::array<double, 2> SphericalRectangleSampler::invert(const Vec3& point) const
   const Vec3 v00 = unit({x0, y0, z0}), v01 = unit({x0, y1, z0}), vu0 = unit({xu, y0, z0}), vu1 = unit({xu, y1, z0});
   const double strip = spherical_triangle_solid_angle(v00, vu0, vu1) + spherical_triangle_solid_angle(v00, vu1, v01);
   // u2: the height h = y/√(d² + y²) is uniform in [h0, h1] along the column at xu.
-  const double dist = std::hypot(xu, z0);
-  const double h0 = y0 / std::hypot(dist, y0);
-  const double h1 = y1 / std::hypot(dist, y1);
-  const double hv = yv / std::hypot(dist, yv);
+  const double dist = std::sqrt(xu * xu + z0 * z0);
+  const double h0 = y0 / std::sqrt(dist * dist + y0 * y0);
+  const double h1 = y1 / std::sqrt(dist * dist + y1 * y1);
+  const double hv = yv / std::sqrt(dist * dist + yv * yv);
   const double top = std::nextafter(1.0, 0.0);
   return {std::clamp(strip / solid_angle, 0.0, top), std::clamp((hv - h0) / (h1 - h0), 0.0, top)};
 }

@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <ostream>
 #include <string>
@@ -257,6 +259,94 @@ TEST(EmbreeScene, RayEndsNeverChangeAResult) {
   EXPECT_GT(hits, 1000);
   EXPECT_GT(blocked, 100);
   EXPECT_GT(rays, 10000);
+}
+
+// Batches of 1 … kRayPacket shadow segments from one point on an object (a
+// shading point) to points on the scene's objects, with right, wrong and no
+// end hints, and unbounded rays (an environment's shadow rays), on every
+// built-in scene and the scenes whose objects touch: the batch (one Embree
+// packet for the lanes the ray mask settles, the filter for the others) must
+// answer every lane exactly as a single occluded() query does.
+struct BatchCount {
+  int lanes = 0, blocked = 0, mismatched = 0;
+};
+BatchCount compare_batches_with_single_queries(
+    const std::function<void(const EmbreeScene&, const RayArgs*, size_t, bool*)>& batch) {
+  const EmbreeDevice device;
+  BatchCount count;
+  for (const Scene& scene : hint_test_scenes()) {
+    const EmbreeScene rtc(device, scene);
+    const size_t n_objects = scene.objects.size();
+    for (int i = 0; i < 240; ++i) {
+      Rng rng(kSeed, 4, uint64_t(i));
+      const size_t a = size_t(i) % n_objects;
+      const AreaSample p = point_on(scene.objects[a], rng, i);
+      const size_t n = 1 + size_t(i) % kRayPacket;
+      RayArgs rays[kRayPacket];
+      for (size_t k = 0; k < n; ++k) {
+        const size_t b = (size_t(i) * 5 + k * 3 + 1) % n_objects;
+        const AreaSample q = point_on(scene.objects[b], rng, int(k) + i);
+        const Vec3 segment = q.point - p.point;
+        const double length_pq = length(segment);
+        if (!(length_pq > 0) || k % 4 == 3) {
+          // An unbounded ray leaving p (the environment's shadow ray).
+          const Vec3 w = sample_uniform_sphere(rng.next_double(), rng.next_double());
+          rays[k] = {p.point, w, std::numeric_limits<double>::infinity(), RayEnds{a, RayEnds::kNone}};
+          continue;
+        }
+        const RayEnds ends = k % 4 == 0 ? RayEnds{a, b} : k % 4 == 1 ? RayEnds{b, a} : RayEnds{a, RayEnds::kNone};
+        rays[k] = {p.point, segment / length_pq, length_pq, ends};
+      }
+      bool batched[kRayPacket];
+      batch(rtc, rays, n, batched);
+      for (size_t k = 0; k < n; ++k) {
+        const bool single = rtc.occluded(rays[k].origin, rays[k].direction, rays[k].t_max, rays[k].ends);
+        ++count.lanes;
+        count.blocked += single;
+        count.mismatched += single != batched[k];
+      }
+    }
+  }
+  return count;
+}
+
+TEST(EmbreeScene, BatchOccludedEqualsSingleQueries) {
+  const BatchCount count = compare_batches_with_single_queries(
+      [](const EmbreeScene& rtc, const RayArgs* rays, size_t n, bool* out) { rtc.occluded(rays, n, out); });
+  std::printf("batch occluded(): %d lanes, %d blocked, %d differ from single queries\n", count.lanes, count.blocked,
+              count.mismatched);
+  EXPECT_EQ(count.mismatched, 0);
+  EXPECT_GT(count.blocked, 500);
+  EXPECT_GT(count.lanes, 20000);
+}
+
+TEST(EmbreeScene, BatchOccludedComparisonCatchesAPacketWithoutEndpointMasks) {
+  // Negative control: the same packet on the same lanes but with every ray
+  // mask left open (what a batch that forgot the endpoint surfaces would do)
+  // finds the rays' own end surfaces, so the comparison above would fail.
+  const BatchCount count = compare_batches_with_single_queries(
+      [](const EmbreeScene& rtc, const RayArgs* rays, size_t n, bool* out) {
+        alignas(32) int valid[kRayPacket] = {};
+        RTCRay8 packet;
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        for (size_t k = 0; k < n; ++k) {
+          const RayArgs& r = rays[k];
+          packet.org_x[k] = float(r.origin.x), packet.org_y[k] = float(r.origin.y), packet.org_z[k] = float(r.origin.z);
+          packet.dir_x[k] = float(r.direction.x), packet.dir_y[k] = float(r.direction.y),
+          packet.dir_z[k] = float(r.direction.z);
+          packet.tnear[k] = 0.0f;
+          packet.tfar[k] = float(r.t_max);
+          packet.time[k] = 0.0f;
+          packet.mask[k] = ~0u;
+          packet.id[k] = packet.flags[k] = 0;
+          valid[k] = -1;
+        }
+        rtcOccluded8(valid, rtc.rtc_scene(), &context, &packet);
+        for (size_t k = 0; k < n; ++k) out[k] = packet.tfar[k] == -std::numeric_limits<float>::infinity();
+      });
+  std::printf("packet without endpoint masks: %d of %d lanes differ\n", count.mismatched, count.lanes);
+  EXPECT_GT(count.mismatched, 1000);
 }
 
 TEST(EmbreeScene, TouchingSurfacesNeedMoreThanTheOriginsOwnMask) {

@@ -4,6 +4,8 @@
 // density of the inversion map. (Their chi-square tests are in warp_chi2_test.cpp.)
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <functional>
 #include <optional>
 #include <ostream>
@@ -268,6 +270,56 @@ TEST(TriangleBarycentric, InverseRoundTripAndJacobian) {
       EXPECT_NEAR(std::fabs(jacobian) * uniform_triangle_barycentric_pdf(b), 1.0, kJacobianRelTol);
     }
   EXPECT_EQ(uniform_triangle_barycentric_pdf({-0.1, 0.6, 0.5}), 0.0);
+}
+
+// The polynomial sin/cos behind every φ = 2π·u and the concentric map,
+// against long double (64-bit mantissa) references, over the whole unit
+// interval: 2^16 draws plus every multiple of 1/64 and its neighbours (the
+// quarter-turn seams of the reduction lie at odd multiples of 1/8).
+constexpr double kSinCosAbsTol = 4e-16;  // ~2 ulp at 1; glibc's sincos is within ~0.5 ulp
+TEST(SinCos, TwoPiUMatchesLongDoubleReferences) {
+  const long double two_pi = 6.283185307179586476925286766559L;
+  std::vector<double> us;
+  Rng rng(kSeed, 0, 0);
+  for (int i = 0; i < kMonteCarloSamples; ++i) us.push_back(rng.next_double());
+  for (int k = 0; k <= 64; ++k) {
+    const double u = k / 64.0;
+    us.insert(us.end(), {u, std::nextafter(u, 0.0), std::nextafter(u, 1.0)});
+  }
+  double worst = 0;
+  for (double u : us) {
+    if (!(u >= 0 && u <= 1)) continue;
+    const auto sc = sampling_detail::sin_cos_two_pi(u);
+    const long double phi = two_pi * (long double)u;
+    const double e = std::fmax(std::fabs(double(sc.sin - sinl(phi))), std::fabs(double(sc.cos - cosl(phi))));
+    worst = std::fmax(worst, e);
+    ASSERT_LE(e, kSinCosAbsTol) << "u = " << u;
+  }
+  std::printf("sin_cos_two_pi: %zu values, worst absolute error %.3g (bound %.3g)\n", us.size(), worst, kSinCosAbsTol);
+}
+
+TEST(SinCos, QuarterTurnHasSmallRelativeErrorAndTheBoundCatchesOneTermLess) {
+  const double quarter = kPiOver4;
+  double worst_sin = 0, worst_cos = 0;
+  for (int i = -4000; i <= 4000; ++i) {
+    const double x = quarter * i / 4000.0;
+    const auto sc = sampling_detail::sin_cos_quarter(x);
+    if (x != 0) worst_sin = std::fmax(worst_sin, std::fabs(double((sc.sin - sinl(x)) / sinl(x))));
+    worst_cos = std::fmax(worst_cos, std::fabs(double(sc.cos - cosl(x))));
+  }
+  for (double tiny : {1e-300, 1e-20, 1e-8}) EXPECT_EQ(sampling_detail::sin_cos_quarter(tiny).sin, tiny);
+  EXPECT_EQ(sampling_detail::sin_cos_quarter(0.0).cos, 1.0);
+  EXPECT_LE(worst_sin, kSinCosAbsTol) << "relative error of sin";
+  EXPECT_LE(worst_cos, kSinCosAbsTol);
+  // Power: a polynomial one term shorter (sin to x^13) is off by x^15/15! ~ 2e-14 at π/4, far beyond the bound.
+  const double z = quarter * quarter;
+  double term = quarter, shorter = 0;
+  for (int n = 1; n <= 13; n += 2) {
+    shorter += term;
+    term *= -z / double((n + 1) * (n + 2));
+  }
+  EXPECT_GT(std::fabs(double(shorter - sinl(quarter))), 10 * kSinCosAbsTol);
+  std::printf("sin_cos_quarter: worst relative error of sin %.3g, absolute of cos %.3g\n", worst_sin, worst_cos);
 }
 
 TEST(Rng, PixelKeyStreamsAreTheTripleStreams) {
