@@ -70,8 +70,6 @@ class AreaSampler {
 inline AreaSample sample_shape_area(const Shape& shape, double u1, double u2) {
   return AreaSampler(shape).sample(u1, u2);
 }
-// Density in area of sample_shape_area: 1/area on the shape.
-inline double shape_area_pdf(const Shape& shape) { return 1.0 / shape_area(shape); }
 
 // THE area → solid-angle conversion (the only place it is written):
 // p_ω = p_A · r² / cos θ', θ' the angle at the light point between its normal
