@@ -131,8 +131,12 @@ struct LightBatch {
     scene.occluded(rays, m, occluded);
     for (size_t j = 0; j < m; ++j) visible[lane[j]] = !occluded[j];
   }
-  // Sample i if it was drawn with a non-zero weight and its light is visible, else nullptr.
-  const LightSample* visible_sample(size_t i) const { return sampled[i] && visible[i] ? &samples[i] : nullptr; }
+  // f(i, sample) for every sample drawn with a non-zero weight whose light is visible, in sample order.
+  template <typename F>
+  void for_each_visible(size_t n, F&& f) const {
+    for (size_t i = 0; i < n; ++i)
+      if (sampled[i] && visible[i]) f(i, samples[i]);
+  }
 };
 
 }  // namespace
@@ -152,12 +156,12 @@ void DirectLighting::estimate_direction(const DirectionStrategy& strategy, const
 void DirectLighting::estimate_light(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters,
                                     EmitterSetups* setups, double* out) const {
   LightBatch light;
-  for (size_t i = 0; i < n; ++i) light.draw(i, light_, ctx, next_uniform3(rngs[i]), setups);
-  light.trace(scene_, counters);
   for (size_t i = 0; i < n; ++i) {
-    const LightSample* s = light.visible_sample(i);
-    out[i] = s ? s->weight * s->radiance : 0.0;
+    out[i] = 0.0;
+    light.draw(i, light_, ctx, next_uniform3(rngs[i]), setups);
   }
+  light.trace(scene_, counters);
+  light.for_each_visible(n, [&](size_t i, const LightSample& s) { out[i] = s.weight * s.radiance; });
 }
 
 void DirectLighting::estimate_mis(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters, int beta,
@@ -182,18 +186,15 @@ void DirectLighting::estimate_mis(const ShadingContext& ctx, Rng* rngs, size_t n
     light.draw(i, light_, ctx, next_uniform3(rngs[i]), setups);
   }
   light.trace(scene_, counters);
-  for (size_t i = 0; i < n; ++i) {
-    // The light sample, weighted against the BSDF's density (0 for a delta BSDF,
-    // whose eval is 0 anyway); a point-light sample only against nothing
-    // (weight 1): BSDF sampling never finds it.
-    const LightSample* visible = light.visible_sample(i);
-    if (!visible) continue;
-    const LightSample& s = *visible;
+  // The light samples, weighted against the BSDF's density (0 for a delta BSDF,
+  // whose eval is 0 anyway); a point-light sample only against nothing
+  // (weight 1): BSDF sampling never finds it.
+  light.for_each_visible(n, [&](size_t i, const LightSample& s) {
     const double p_bsdf = bsdf.pdf(ctx, s.wi_world);
     const double w = s.delta ? delta_light_mis_weight(s, p_bsdf, defect_)
                              : mis_weights({p_bsdf, s.pdf_solid_angle}, beta, defect_).w_light;
     out[i] += w * s.weight * s.radiance;
-  }
+  });
 }
 
 void DirectLighting::estimate_one_sample(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters,
@@ -225,18 +226,15 @@ void DirectLighting::estimate_one_sample(const ShadingContext& ctx, Rng* rngs, s
     light.draw(i, light_, ctx, next_uniform3(rngs[i]), setups);
   }
   light.trace(scene_, counters);
-  for (size_t i = 0; i < n; ++i) {
-    const LightSample* visible = light.visible_sample(i);
-    if (!visible) continue;
-    const LightSample& s = *visible;
+  light.for_each_visible(n, [&](size_t i, const LightSample& s) {
     // A point light: only this strategy covers it, chosen with probability 1 − c.
     if (s.delta) {
       out[i] = s.weight * s.radiance / c_light;
-      continue;
+      return;
     }
     const double p_bsdf = bsdf.pdf(ctx, s.wi_world);
     out[i] = s.weight * s.pdf_solid_angle * s.radiance / (c * p_bsdf + c_light * s.pdf_solid_angle);
-  }
+  });
 }
 
 double DirectLighting::estimate(const ShadingContext& ctx, Rng& rng, TraceCounters& counters,

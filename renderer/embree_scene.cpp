@@ -362,8 +362,7 @@ bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, double t_m
 namespace {
 
 // Lane `i` of an Embree packet from a single ray.
-template <typename Packet>
-void set_lane(Packet& p, size_t i, const RTCRay& r) {
+void set_lane(RTCRay8& p, size_t i, const RTCRay& r) {
   p.org_x[i] = r.org_x;
   p.org_y[i] = r.org_y;
   p.org_z[i] = r.org_z;
@@ -393,15 +392,15 @@ void EmbreeScene::occluded(const RayArgs* rays, size_t n, bool* occluded) const 
   bool any = false;
   for (size_t i = 0; i < n; ++i) {
     const RayArgs& r = rays[i];
-    const RayQuery query(this, r.origin, r.direction, r.t_max);
-    const std::optional<unsigned> mask = endpoint_mask(query, r.ends);
-    if (!mask) {
-      occluded[i] = this->occluded(r.origin, r.direction, r.t_max, r.ends);  // the filter decides
+    if (ray_log_) ray_log_->push_back({r.origin, r.direction, r.t_max, true, r.ends});
+    RayQuery query(this, r.origin, r.direction, r.t_max);
+    RTCRay ray = make_ray(r.origin, r.direction, r.t_max);
+    prepare(query, ray, r.ends);
+    if (query.context.filter) {  // only the filter can decide: this lane alone
+      rtcOccluded1(rtc_scene_, &query.context, &ray);
+      occluded[i] = ray.tfar == -std::numeric_limits<float>::infinity();
       continue;
     }
-    if (ray_log_) ray_log_->push_back({r.origin, r.direction, r.t_max, true, r.ends});
-    RTCRay ray = make_ray(r.origin, r.direction, r.t_max);
-    ray.mask = *mask;
     set_lane(packet, i, ray);
     valid[i] = -1;
     any = true;

@@ -178,14 +178,7 @@ std::optional<LightSample> LightStrategy::sample(const ShadingContext& ctx, cons
                                                  EmitterSetups* setups) const {
   // Filled in place in the caller's optional (one named return value).
   std::optional<LightSample> result(std::in_place);
-  bool sampled;
-  if (setups) {
-    sampled = sample_into(ctx, u, *setups, *result);
-  } else {
-    EmitterSetups unbound;
-    sampled = sample_into(ctx, u, unbound, *result);
-  }
-  if (!sampled) result.reset();
+  if (!sample(ctx, u, setups, *result)) result.reset();
   return result;
 }
 
@@ -260,8 +253,8 @@ bool LightStrategy::sample_into(const ShadingContext& ctx, const Uniform3& u, Em
     const Vec3 to_light = q.point - ctx.point;
     const double distance_squared = length_squared(to_light);
     if (!(distance_squared > 0)) return false;
-    const double distance = std::sqrt(distance_squared);
-    s.wi_world = q.direction ? *q.direction : to_light * (1.0 / distance);
+    const double distance = std::sqrt(distance_squared), inv_distance = 1.0 / distance;
+    s.wi_world = q.direction ? *q.direction : to_light * inv_distance;
     const double emitter_pdf =
         emitter_pdf_solid_angle(method, emitter, area.pdf_area(), ctx.point, s.wi_world, q.point, q.normal, defect);
     s.pdf_solid_angle = pmf * emitter_pdf;
@@ -277,7 +270,7 @@ bool LightStrategy::sample_into(const ShadingContext& ctx, const Uniform3& u, Em
     if (s.shadow_origin == ctx.point) {
       // The segment is to_light: its length and direction are known already.
       s.shadow_t_max = distance;
-      s.shadow_direction = q.direction ? to_light * (1.0 / distance) : s.wi_world;
+      s.shadow_direction = q.direction ? to_light * inv_distance : s.wi_world;
     } else {
       const Vec3 segment = q.point - s.shadow_origin;
       s.shadow_t_max = scene_length(segment);
