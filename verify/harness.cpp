@@ -201,9 +201,93 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
   return cases;
 }
 
-Verdict run_case(const Case& c, double per_case_alpha) {
+namespace {
+
+// The keys under which AnalyticCache keeps a scene file's values.
+std::string reference_key(const Case& c) {
+  return is_path_tracer(c.options.strategy) ? fmt::format("{}|path|{}", c.scene_path, c.options.max_depth)
+                                            : c.scene_path + "|direct";
+}
+std::string variance_key(const Case& c) {
+  return fmt::format("{}|{}|{}", c.scene_path, strategy_name(c.options.strategy),
+                     c.options.light_selection == LightSelection::kPower ? "power" : "uniform");
+}
+
+// Predicted per-pixel variances, when the strategy has an analytic model and
+// analytic/ solves this scene's second moments; empty otherwise.
+std::vector<double> compute_predicted_variance(const Case& c, const Scene& scene,
+                                               const std::vector<double>& reference) {
+  std::vector<double> predicted_variance;
+  if (!has_variance_model(c.options.strategy)) return predicted_variance;
+  try {
+    predicted_variance.resize(reference.size());
+    const size_t width = size_t(scene.camera.width_px);
+    for_each_pixel(reference.size(), c.options.threads, [&](size_t i) {
+      const double m2 = analytic::pixel_center_second_moment(c.options.strategy, scene, int(i % width),
+                                                             int(i / width), c.options.light_selection);
+      const double e2 = reference[i] * reference[i];
+      // An exact estimator (a lone point light) has E[Y²] = E², computed
+      // along two double paths: a difference within round-off is zero.
+      predicted_variance[i] = m2 - e2 <= kPredictedVarianceRoundOff * e2 ? 0.0 : m2 - e2;
+    });
+  } catch (const Error&) {
+    predicted_variance.clear();  // not modelled for this scene: mean tests only
+  }
+  return predicted_variance;
+}
+
+}  // namespace
+
+// The value of `key` in `map`, computed by `compute` (outside the lock) when absent.
+template <class Compute>
+const std::vector<double>& find_or_compute(std::mutex& mutex, std::map<std::string, std::vector<double>>& map,
+                                           const std::string& key, Compute compute) {
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (auto it = map.find(key); it != map.end()) return it->second;
+  }
+  std::vector<double> value = compute();
+  std::lock_guard<std::mutex> lock(mutex);
+  return map.emplace(key, std::move(value)).first->second;  // keeps an equal value stored meanwhile
+}
+
+const std::vector<double>& AnalyticCache::reference(const Case& c, const Scene& scene) {
+  return find_or_compute(mutex_, references_, reference_key(c), [&] { return reference_for(scene, c.options); });
+}
+
+const std::vector<double>& AnalyticCache::predicted_variance(const Case& c, const Scene& scene,
+                                                             const std::vector<double>& reference) {
+  return find_or_compute(mutex_, variances_, variance_key(c),
+                         [&] { return compute_predicted_variance(c, scene, reference); });
+}
+
+std::vector<Verdict> run_cases(const std::vector<Case>& cases, double per_case_alpha, int threads,
+                               const std::function<void()>& case_done) {
+  std::optional<tbb::global_control> limit;
+  if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
+  AnalyticCache analytic_values;
+  std::vector<Verdict> verdicts(cases.size());
+  std::mutex done_mutex;
+  // One case per task: TBB runs as many cases at once as it has workers and
+  // splits each case's pixel loops among idle ones, so no core waits for a
+  // case's serial steps (scene set-up, the statistics) or for the last pixels.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, cases.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      verdicts[i] = run_case(cases[i], per_case_alpha, &analytic_values);
+      if (case_done) {
+        std::lock_guard<std::mutex> lock(done_mutex);
+        case_done();
+      }
+    }
+  });
+  return verdicts;
+}
+
+Verdict run_case(const Case& c, double per_case_alpha, AnalyticCache* cache) {
+  AnalyticCache own;  // a cache for this case alone when the caller keeps none
+  AnalyticCache& analytic_values = cache ? *cache : own;
   const Scene scene = load_scene(c.scene_path);
-  const std::vector<double> reference = reference_for(scene, c.options);
+  const std::vector<double>& reference = analytic_values.reference(c, scene);
   const Image image = render(scene, c.options);
   FURNACE_CHECK(image.pixels.size() == reference.size());
 
@@ -220,28 +304,9 @@ Verdict run_case(const Case& c, double per_case_alpha) {
   v.samples_per_second = double(v.pixels) * v.spp / image.seconds;
   v.nonfinite_samples = image.nonfinite_samples;
 
-
-  // Predicted per-pixel variances, when the strategy has an analytic model
-  // and analytic/ solves this scene's second moments.
-  std::vector<double> predicted_variance;
   // Tested under an injected defect too: a defect that keeps the mean must be
   // caught here (DEFECT(mis_power_exponent_3)).
-  if (has_variance_model(c.options.strategy)) {
-    try {
-      predicted_variance.resize(reference.size());
-      const size_t width = size_t(image.width);
-      for_each_pixel(reference.size(), c.options.threads, [&](size_t i) {
-        const double m2 = analytic::pixel_center_second_moment(c.options.strategy, scene, int(i % width),
-                                                               int(i / width), c.options.light_selection);
-        const double e2 = reference[i] * reference[i];
-        // An exact estimator (a lone point light) has E[Y²] = E², computed
-        // along two double paths: a difference within round-off is zero.
-        predicted_variance[i] = m2 - e2 <= kPredictedVarianceRoundOff * e2 ? 0.0 : m2 - e2;
-      });
-    } catch (const Error&) {
-      predicted_variance.clear();  // not modelled for this scene: mean tests only
-    }
-  }
+  std::vector<double> predicted_variance = analytic_values.predicted_variance(c, scene, reference);
   // A test that cannot run at this spp is skipped and named, never failed.
   if (!predicted_variance.empty() && uint64_t(c.options.spp) < stats::kMinVarianceTestSamples) {
     v.variance_skipped = fmt::format("{} samples per pixel, the variance test needs at least {}", c.options.spp,

@@ -4,6 +4,9 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <map>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -125,10 +128,45 @@ std::string variance_detect_cell(const Verdict& v);
 std::vector<const Verdict*> weakest_cases(const std::vector<Verdict>& verdicts, double Verdict::*detect,
                                           bool (*applies)(const Verdict&), size_t count);
 
+// The analytic side of cases (per-pixel references and predicted
+// variances), computed once per scene file and kept for every later case
+// that needs the same values: the direct-lighting strategies of a scene share
+// one reference, the path tracers one per max_depth, and a strategy's
+// variances (under one light selection) do not depend on the seed or spp, so
+// a sweep over seeds computes them once. A value is a pure function of the
+// scene file and those keys, so a run's results are the same with or without
+// the cache. Thread-safe: concurrent cases may share one (two cases that
+// miss the same key at once both compute it; the values are equal).
+class AnalyticCache {
+ public:
+  // reference_for(scene, options), from the cache when this scene file's was computed before.
+  const std::vector<double>& reference(const Case& c, const Scene& scene);
+  // The predicted per-pixel variances E[Y²] − E[Y]² of c's strategy, or empty
+  // when analytic/ does not model them on this scene (see run_case).
+  const std::vector<double>& predicted_variance(const Case& c, const Scene& scene,
+                                                const std::vector<double>& reference);
+
+ private:
+  std::mutex mutex_;  // guards the maps; values are computed outside it
+  // std::map: references to its values stay valid as keys are added.
+  std::map<std::string, std::vector<double>> references_;
+  std::map<std::string, std::vector<double>> variances_;
+};
+
 // Runs one case. `per_case_alpha` is the family-wise level of this case's
 // P + 1 mean tests (P pixel tests and the image-mean test) and, where the
-// strategy's variance is modelled, its aggregate variance test.
-Verdict run_case(const Case& c, double per_case_alpha);
+// strategy's variance is modelled, its aggregate variance test. `cache`,
+// when given, keeps the analytic values between cases (AnalyticCache).
+Verdict run_case(const Case& c, double per_case_alpha, AnalyticCache* cache = nullptr);
+
+// run_case for every case, sharing one AnalyticCache, several cases at a time
+// (as many as TBB's workers: `threads`, 0 for all; each case's pixels are
+// split among the workers too). Every case's verdict is the one run_case
+// gives it alone, bit for bit, except its render time (it shares the machine
+// with the cases running beside it); verdicts come back in case order.
+// `case_done` is called (serialised) after each case.
+std::vector<Verdict> run_cases(const std::vector<Case>& cases, double per_case_alpha, int threads,
+                               const std::function<void()>& case_done = {});
 
 // The built-in suite `furnace verify` runs when no scene is given: each
 // built-in scene with the strategies whose reference it has (direct-lighting

@@ -139,12 +139,9 @@ int run_verify(std::vector<std::string> scenes, std::vector<std::string> strateg
   if (!outputs.html_dir.empty()) cli::create_output_directory(outputs.html_dir, "--html");
   const std::string warning = verify::low_spp_warning(cases);
   if (!warning.empty()) std::fprintf(stderr, "furnace: warning: %s\n", warning.c_str());
-  std::vector<verify::Verdict> verdicts;
   verify::Progress progress("verify", cases.size());
-  for (const verify::Case& c : cases) {
-    verdicts.push_back(verify::run_case(c, per_case_alpha));
-    progress.step();
-  }
+  const std::vector<verify::Verdict> verdicts =
+      verify::run_cases(cases, per_case_alpha, threads, [&] { progress.step(); });
   progress.finish();
   std::fputs(verify::format_table(verdicts, alpha).c_str(), stdout);
   if (!outputs.json_path.empty()) verify::write_verdicts_json(verdicts, alpha, outputs.json_path);
@@ -245,18 +242,16 @@ int run_sweep(const std::vector<std::string>& strategies, int seeds, int spp, do
   bool calibrated = true;
   verify::Progress progress("sweep", cases.size() * size_t(seeds));
   for (const verify::Case& base : cases) {
-    std::string scene_name, strategy;
+    // The case at seeds 1 … seeds, run together (run_cases: the analytic
+    // values once for all seeds, several seeds at a time).
+    std::vector<verify::Case> runs(size_t(seeds), base);
+    for (size_t i = 0; i < runs.size(); ++i) runs[i].options.seed = 1 + i;
+    const std::vector<verify::Verdict> verdicts =
+        verify::run_cases(runs, case_alpha, threads, [&] { progress.step(); });
+    const std::string& scene_name = verdicts.front().scene;
+    const std::string& strategy = verdicts.front().strategy;
     const stats::RejectionRate rate = stats::measure_rejection_rate(
-        [&](uint64_t seed) {
-          verify::Case c = base;
-          c.options.seed = seed;
-          const verify::Verdict v = verify::run_case(c, case_alpha);
-          progress.step();
-          scene_name = v.scene;
-          strategy = v.strategy;
-          return !v.pass;
-        },
-        size_t(seeds), case_alpha, 1);
+        [&](uint64_t seed) { return !verdicts[seed - 1].pass; }, size_t(seeds), case_alpha, 1);
     total_rejections += rate.rejections;
     total_trials += rate.trials;
     // Too many false alarms is the failure that matters (one-sided reading of

@@ -19,10 +19,36 @@ void require_level(double p, const char* name) {
   if (!(p > 0 && p < 1)) throw std::invalid_argument(std::string(name) + " must lie in (0, 1), got " + std::to_string(p) + ".");
 }
 
-// Upper quantile of Student's t: the x with P(T > x) = q.
-double t_upper_quantile(double dof, double q) {
+// The last few (a, b) -> f(a, b) of a pure function, per thread: the per-pixel
+// tests of a case ask for the same two quantiles (its level and its power) at
+// the same degrees of freedom for every pixel, and Boost's inverse takes
+// microseconds. A hit returns the value computed before, bit for bit.
+template <double (*F)(double, double)>
+double memoized(double a, double b) {
+  struct Entry {
+    double a, b, value;
+  };
+  static constexpr size_t kEntries = 4;  // a level and a power quantile for two kinds of test
+  thread_local Entry entries[kEntries] = {};
+  thread_local size_t used = 0, next = 0;
+  for (size_t i = 0; i < used; ++i)
+    if (entries[i].a == a && entries[i].b == b) return entries[i].value;
+  const double value = F(a, b);
+  entries[next] = {a, b, value};
+  next = (next + 1) % kEntries;
+  used = std::max(used, next == 0 ? kEntries : next);
+  return value;
+}
+
+double t_upper_quantile_uncached(double dof, double q) {
   return boost::math::quantile(boost::math::complement(boost::math::students_t_distribution<double>(dof), q));
 }
+double normal_upper_quantile_uncached(double q, double) {
+  return boost::math::quantile(boost::math::complement(boost::math::normal_distribution<double>(), q));
+}
+
+// Upper quantile of Student's t: the x with P(T > x) = q.
+double t_upper_quantile(double dof, double q) { return memoized<t_upper_quantile_uncached>(dof, q); }
 double normal_two_sided_p(double z) {
   return 2 * boost::math::cdf(boost::math::complement(boost::math::normal_distribution<double>(), std::fabs(z)));
 }
@@ -60,9 +86,7 @@ double bonferroni_alpha(double alpha_family, size_t n_tests) {
   return alpha_family / double(n_tests);
 }
 
-double normal_upper_quantile(double q) {
-  return boost::math::quantile(boost::math::complement(boost::math::normal_distribution<double>(), q));
-}
+double normal_upper_quantile(double q) { return memoized<normal_upper_quantile_uncached>(q, 0.0); }
 
 MeanTestResult mean_test(uint64_t count, double mean, double sample_variance, double reference, double alpha,
                          double power) {

@@ -295,3 +295,28 @@ TEST(RejectionRate, CountsAndBracketsTheRate) {
 
 }  // namespace
 }  // namespace furnace::stats
+
+// The quantiles are memoised per thread (the last few arguments): every value
+// must equal Boost's for the same arguments, whatever was asked before it,
+// including after its entry was evicted by more distinct arguments than the
+// memo holds.
+TEST(Quantiles, MemoisedValuesEqualBoostsInAnyOrder) {
+  const double levels[] = {0.5e-6, 0.1, 0.025, 1e-9, 0.3, 0.1, 0.5e-6, 0.2, 1e-9, 0.025, 0.1};
+  const double dofs[] = {4095, 127, 4095, 9, 1e6};
+  size_t checked = 0;
+  for (int round = 0; round < 3; ++round)
+    for (double dof : dofs)
+      for (double q : levels) {
+        const furnace::stats::MeanTestResult r = furnace::stats::mean_test(uint64_t(dof) + 1, 0.1, 1.0, 0.0, 2 * q, 0.9);
+        const double expected = boost::math::quantile(
+            boost::math::complement(boost::math::students_t_distribution<double>(dof), q));
+        EXPECT_EQ(r.threshold, expected) << "dof " << dof << ", q " << q;
+        EXPECT_EQ(furnace::stats::normal_upper_quantile(q),
+                  boost::math::quantile(boost::math::complement(boost::math::normal_distribution<double>(), q)));
+        ++checked;
+      }
+  // Negative control: a neighbouring level's quantile is not the same number,
+  // so a memo answering for the wrong key would be seen.
+  EXPECT_NE(furnace::stats::normal_upper_quantile(0.1), furnace::stats::normal_upper_quantile(std::nextafter(0.1, 1.0)));
+  std::printf("%zu (dof, level) pairs: memoised quantiles equal Boost's bit for bit\n", checked);
+}
