@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <utility>
 #include <limits>
@@ -30,6 +31,8 @@ constexpr double kTouchRelative = 0x1.0p-16;
 // Objects 0…30 own one bit of Embree's 32-bit ray mask; all others share bit
 // 31, so only the first 31 can be excluded from a query by the mask.
 constexpr size_t kOwnMaskBits = 31;
+// EmbreeScene ids, unique in the process (a later scene may reuse an earlier one's address).
+std::atomic<uint64_t> scene_count{0};
 unsigned mask_bit(size_t object) { return 1u << std::min(object, kOwnMaskBits); }
 
 const char* error_name(RTCError code) {
@@ -246,7 +249,7 @@ void EmbreeDevice::check(const std::string& what) const {
 }
 
 EmbreeScene::EmbreeScene(const EmbreeDevice& device, const Scene& scene, EndpointFilter endpoint_filter)
-    : device_(device), scene_(scene), endpoint_filter_(endpoint_filter) {
+    : device_(device), scene_(scene), endpoint_filter_(endpoint_filter), scene_id_(++scene_count) {
   rtc_scene_ = rtcNewScene(device.get());
   // Robust mode: watertight traversal, so rays through shared quad edges are not lost.
   // The exact endpoint filter is a context filter, installed per query only
@@ -306,10 +309,12 @@ std::optional<unsigned> EmbreeScene::endpoint_mask(const RayQuery& query, const 
   // not on `object` (the hint does not hold), or when a rejection depends on
   // the candidate's distance (a ray entering a sphere from its surface meets
   // it again at the chord's far end) or an object has no mask bit of its own.
+  bool origin_on_sphere = false;  // a sphere's surface holds the origin: the direction decides
   const auto exclude_surfaces_through = [&](size_t object, const Vec3& x, bool is_origin) {
     if (object >= surface_.size() || !on_surface(object, x)) return false;
     const auto exclude = [&](size_t b) {
       const Sphere* s = std::get_if<Sphere>(&surface_[b]);
+      if (is_origin && s) origin_on_sphere = true;
       if (is_origin && s && dot(query.origin - s->center, query.direction) < 0) return false;
       if (b >= kOwnMaskBits) return false;
       mask &= ~mask_bit(b);
@@ -320,7 +325,30 @@ std::optional<unsigned> EmbreeScene::endpoint_mask(const RayQuery& query, const 
       if (on_surface(b, x) && !exclude(b)) return false;
     return true;
   };
-  if (!exclude_surfaces_through(ends.origin_object, query.origin, true)) return std::nullopt;
+  // The origin's part of the mask, kept per thread for the last origin: the
+  // rays of a pixel's samples (and the two rays of a path vertex) leave the
+  // same shading point. Kept only when no sphere is among the excluded
+  // surfaces, the one case where the ray's direction enters the decision.
+  struct OriginMemo {
+    uint64_t scene_id = 0;  // 0: empty (scene ids start at 1)
+    size_t object = RayEnds::kNone;
+    Vec3 point;
+    unsigned mask = ~0u;
+    bool excluded = false;  // exclude_surfaces_through's result
+  };
+  thread_local OriginMemo memo;
+  // (A query without an origin object, a camera ray, neither uses nor replaces it.)
+  const bool named = ends.origin_object < surface_.size();
+  const bool remembered =
+      named && memo.scene_id == scene_id_ && memo.object == ends.origin_object && memo.point == query.origin;
+  if (remembered) {
+    if (!memo.excluded) return std::nullopt;
+    mask = memo.mask;
+  } else {
+    const bool excluded = exclude_surfaces_through(ends.origin_object, query.origin, true);
+    if (named && !origin_on_sphere) memo = {scene_id_, ends.origin_object, query.origin, mask, excluded};
+    if (!excluded) return std::nullopt;
+  }
   if (query.segment && !exclude_surfaces_through(ends.end_object, query.end, false)) return std::nullopt;
   return mask;
 }

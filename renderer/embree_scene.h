@@ -153,6 +153,7 @@ class EmbreeScene {
   EndpointFilter endpoint_filter_;
   RTCScene rtc_scene_ = nullptr;
   std::vector<TracedRay>* ray_log_ = nullptr;
+  uint64_t scene_id_;  // unique per scene built in this process: the key of endpoint_mask's per-thread memo
   std::vector<double> object_extent_;  // largest |coordinate| of each object's bounding box
   std::vector<ExactSurface> surface_;  // each object's exact surface, computed once
   // touching_[i]: the other objects whose exact surface comes near object i's

@@ -76,6 +76,22 @@ std::array<double, 2> SphericalTriangleSampler::invert(const Vec3& w) const {
   return {std::clamp(u1, 0.0, top), std::clamp(u2, 0.0, top)};
 }
 
+namespace {
+
+// atan2(im_a, re_a) + atan2(im_b, re_b) for im_a, im_b > 0 (each angle in
+// (0, π)), as the argument of the product (re_a + i·im_a)(re_b + i·im_b)
+// taken in (0, 2π). Each factor is first divided by its larger component
+// (exact up to one rounding, and it keeps the product's magnitude near 1
+// whatever the scene's scale).
+double sum_of_two_arguments(double re_a, double im_a, double re_b, double im_b) {
+  const double scale_a = 1 / std::fmax(std::fabs(re_a), im_a), scale_b = 1 / std::fmax(std::fabs(re_b), im_b);
+  re_a *= scale_a, im_a *= scale_a, re_b *= scale_b, im_b *= scale_b;
+  const double sum = std::atan2(re_a * im_b + im_a * re_b, re_a * re_b - im_a * im_b);
+  return sum < 0 ? sum + kTwoPi : sum;  // atan2 gives (−π, π]; the sum lies in (0, 2π)
+}
+
+}  // namespace
+
 std::optional<SphericalRectangleSampler> SphericalRectangleSampler::make(const Rectangle& r, const Vec3& origin) {
   const double len_u = std::sqrt(length_squared(r.edge_u)), len_v = std::sqrt(length_squared(r.edge_v));
   if (!(std::fabs(dot(r.edge_u, r.edge_v)) <= kPerpendicularTolerance * len_u * len_v)) return std::nullopt;
@@ -98,15 +114,22 @@ std::optional<SphericalRectangleSampler> SphericalRectangleSampler::make(const R
   // angle at a corner v, π minus the angle between its two normals, is
   // atan2(|z0|·|v|, a product of two coordinates): the normals' lengths cancel
   // in atan2, so no normal is normalised.
+  // Each angle is the argument of (product, |z0|·|v|), whose second
+  // component is > 0, so it lies in (0, π) and the sum of two lies in
+  // (0, 2π): one atan2 of the complex product gives a pair's sum (the
+  // argument of a product is the sum of the arguments), two atan2 instead
+  // of four.
   const double z0_abs = -s.z0, z0_2 = s.z0 * s.z0;
-  const double g0 = std::atan2(z0_abs * std::sqrt(s.x1 * s.x1 + s.y0 * s.y0 + z0_2), s.y0 * s.x1);   // at v10
-  const double g1 = std::atan2(z0_abs * std::sqrt(s.x1 * s.x1 + s.y1 * s.y1 + z0_2), -s.x1 * s.y1);  // at v11
-  const double g2 = std::atan2(z0_abs * std::sqrt(s.x0 * s.x0 + s.y1 * s.y1 + z0_2), s.x0 * s.y1);   // at v01
-  const double g3 = std::atan2(z0_abs * std::sqrt(s.x0 * s.x0 + s.y0 * s.y0 + z0_2), -s.x0 * s.y0);  // at v00
+  const double im0 = z0_abs * std::sqrt(s.x1 * s.x1 + s.y0 * s.y0 + z0_2), re0 = s.y0 * s.x1;   // at v10
+  const double im1 = z0_abs * std::sqrt(s.x1 * s.x1 + s.y1 * s.y1 + z0_2), re1 = -s.x1 * s.y1;  // at v11
+  const double im2 = z0_abs * std::sqrt(s.x0 * s.x0 + s.y1 * s.y1 + z0_2), re2 = s.x0 * s.y1;   // at v01
+  const double im3 = z0_abs * std::sqrt(s.x0 * s.x0 + s.y0 * s.y0 + z0_2), re3 = -s.x0 * s.y0;  // at v00
+  const double g01 = sum_of_two_arguments(re0, im0, re1, im1);
+  const double g23 = sum_of_two_arguments(re2, im2, re3, im3);
   s.b0 = -s.y0 / std::sqrt(z0_2 + s.y0 * s.y0);  // n0.z
   s.b1 = s.y1 / std::sqrt(z0_2 + s.y1 * s.y1);   // n2.z
-  s.k = kTwoPi - g2 - g3;
-  s.solid_angle = g0 + g1 - s.k;
+  s.k = kTwoPi - g23;
+  s.solid_angle = g01 - s.k;
   if (!(s.solid_angle >= kMinSampledSolidAngle)) return std::nullopt;
   return s;
 }

@@ -261,6 +261,74 @@ TEST(EmbreeScene, RayEndsNeverChangeAResult) {
   EXPECT_GT(rays, 10000);
 }
 
+// Many rays from one point, as a pixel's samples leave its shading point:
+// endpoint_mask keeps the origin's part of the mask per thread for the last
+// origin, so the repeats must answer as the exact filter does, in every
+// direction (into a sphere from its surface too, where the direction
+// decides), with right and wrong hints, and when a second scene, whose
+// objects are the first's moved along their normals, is asked about the same
+// origin and object index in between (the memo must not carry over).
+Shape moved(const Shape& shape, const Vec3& offset) {
+  return std::visit(overloaded{[&](const Rectangle& r) -> Shape { return Rectangle{r.corner + offset, r.edge_u, r.edge_v}; },
+                               [&](const Disk& d) -> Shape { return Disk{d.center + offset, d.normal, d.radius}; },
+                               [&](const Sphere& b) -> Shape { return Sphere{b.center + offset, b.radius}; },
+                               [&](const Triangle& t) -> Shape {
+                                 return Triangle{t.p0 + offset, t.p1 + offset, t.p2 + offset};
+                               }},
+                    shape);
+}
+
+TEST(EmbreeScene, RepeatedOriginsAnswerAsTheFilterDoes) {
+  const EmbreeDevice device;
+  int rays = 0, hits = 0, blocked = 0, moved_differs = 0;
+  for (const Scene& scene : hint_test_scenes()) {
+    Scene shifted = scene;
+    for (Object& o : shifted.objects) o.shape = moved(o.shape, Vec3{1e-3, 2e-3, 3e-3});
+    const EmbreeScene rtc(device, scene);
+    const EmbreeScene rtc_shifted(device, shifted);
+    const size_t n = scene.objects.size();
+    for (size_t a = 0; a < n; ++a) {
+      Rng rng(kSeed, 7, a);
+      const Vec3 p = point_on(scene.objects[a], rng, int(a)).point;
+      for (int i = 0; i < 64; ++i) {
+        const Vec3 w = sample_uniform_sphere(rng.next_double(), rng.next_double());
+        const size_t b = (a + 1 + size_t(i)) % n;
+        const Vec3 q = point_on(scene.objects[b], rng, i).point;
+        const Vec3 segment = q - p;
+        const double length_pq = length(segment);
+        for (const EmbreeScene* r : {&rtc, &rtc_shifted, &rtc}) {
+          const auto exact = r->intersect(p, w);
+          const auto hinted = r->intersect(p, w, std::numeric_limits<double>::infinity(), RayEnds{a, RayEnds::kNone});
+          ASSERT_EQ(exact.has_value(), hinted.has_value()) << scene.name << " object " << a << " ray " << i;
+          if (exact) {
+            EXPECT_EQ(exact->object, hinted->object) << scene.name << " object " << a << " ray " << i;
+            EXPECT_EQ(exact->t, hinted->t) << scene.name << " object " << a << " ray " << i;
+            hits += r == &rtc;
+          }
+          if (!(length_pq > 0)) continue;
+          const bool exact_blocked = r->occluded(p, segment / length_pq, length_pq);
+          EXPECT_EQ(exact_blocked, r->occluded(p, segment / length_pq, length_pq, RayEnds{a, b}))
+              << scene.name << " object " << a << " segment " << i;
+          EXPECT_EQ(exact_blocked, r->occluded(p, segment / length_pq, length_pq, RayEnds{b, a}))
+              << scene.name << " object " << a << " segment " << i;
+          if (r == &rtc) {
+            blocked += exact_blocked;
+            ++rays;
+          } else {
+            // The moved object a no longer holds p: its answer may differ from the first scene's.
+            moved_differs += exact_blocked != rtc.occluded(p, segment / length_pq, length_pq);
+          }
+        }
+      }
+    }
+  }
+  std::printf("repeated origins: %d segments, %d blocked, %d hits; %d segments answered otherwise in the moved scene\n",
+              rays, blocked, hits, moved_differs);
+  EXPECT_GT(rays, 1000);
+  EXPECT_GT(blocked, 100);
+  EXPECT_GT(moved_differs, 10);  // the moved scene asks a different question: a memo carried over would show
+}
+
 // Batches of 1 … kRayPacket shadow segments from one point on an object (a
 // shading point) to points on the scene's objects, with right, wrong and no
 // end hints, and unbounded rays (an environment's shadow rays), on every
