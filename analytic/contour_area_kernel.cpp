@@ -8,6 +8,8 @@
 
 #include "analytic/error_ledger.h"
 #include "analytic/polygon_patch.h"
+#include "analytic/sin_cos.h"
+#include "analytic/sin_cos_power_integral.h"
 #include "core/adaptive_quadrature.h"
 #include "core/vec3.h"
 
@@ -64,11 +66,16 @@ double contour_area_kernel(const std::vector<Curve2>& boundary, double h, double
       const double i1 = (W * W + W * h2 + h2 * h2) / (6 * h2 * h2 * W3);  // I1/ρ²
       const double i3 = (rho2 + 3 * h2) / (12 * h2 * W3);                 // I3/ρ⁴
       // I2/ρ³ = J2(T)/(h³ρ³) → 1/(3h⁶) as ρ → 0 (J2 ~ T³/3).
-      const double i2 = rho > 0 ? sin_cos_power_integral(2, 4, std::atan2(rho, h)) / (h3 * rho2 * rho) : 1 / (3 * h3 * h3);
+      double i2 = 1 / (3 * h3 * h3);
+      if (rho > 0) {
+        const SinCos t = sin_cos_of_atan2(rho, h);  // of T = atan2(ρ, h)
+        i2 = sin_cos_power_integral<2, 4>(t.S, t.C) / (h3 * rho2 * rho);
+      }
       return a * a * i1 + 2 * a * cq * i2 + cq * cq * i3;
     }
     const double t1 = h2 / (6 * W3);
-    const double t2 = sin_cos_power_integral(4, 2, std::atan2(h, rho)) / h3;
+    const SinCos t = sin_cos_of_atan2(h, rho);  // of π/2 − T = atan2(h, ρ)
+    const double t2 = sin_cos_power_integral<4, 2>(t.S, t.C) / h3;
     const double t3 = h2 * (h2 + 3 * rho2) / (12 * W3);
     return -(a * a * t1 + 2 * a * (cq / rho) * t2 + (cq / rho) * (cq / rho) * t3) / rho2;
   };

@@ -35,8 +35,9 @@ namespace furnace::analytic {
 // region not holding F):
 //   K = −∮ (G∞ − G) dφ,  G∞ − G = a²h²/(6W³) + 2ac·J4(π/2 − T)/h³ + c²h²(h² + 3ρ²)/(12W³),
 //   J4(x) = ∫_0^x sin⁴t cos²t dt.
-// J2 and J4 by 20-point Gauss–Legendre (trigonometric polynomials of degree
-// 6 on at most [0, π/2]: exact to round-off, no cancelling closed form).
+// J2 and J4 by their binomial series in sin T or cos T
+// (sin_cos_power_integral.h: a few ulps, no trigonometric call, no
+// cancelling closed form), sin T and cos T from ρ and h (sin_cos_of_atan2).
 // Segments are integrated in their own polar angle ψ about the foot of the
 // perpendicular from F (dφ = ±dψ, which spreads a segment passing close to
 // F), arcs in their parameter t with s²dφ = r(r + cx cos t + cy sin t) dt,
@@ -52,7 +53,7 @@ namespace furnace::analytic {
 // the boundary, where K ~ 1/h⁴ moves by ~ f·δ per unit length of a boundary
 // displaced by δ (about ε·scale/h relative).
 // Cost: O(pieces × (2·bisections + 1) × 31) kernel evaluations, each with a
-// 20-point rule: about a millisecond for a disk cut by the horizon.
+// polynomial of at most 48 terms.
 double contour_area_kernel(const std::vector<Curve2>& boundary, double h, double a, double n1, double n2,
                            bool foot_inside, double coordinate_scale);
 

@@ -9,6 +9,8 @@
 #include "analytic/error_ledger.h"
 #include "analytic/polygon.h"
 #include "analytic/polygon_patch.h"
+#include "analytic/sin_cos.h"
+#include "analytic/sin_cos_power_integral.h"
 #include "analytic/small_emitter.h"
 #include "core/adaptive_quadrature.h"
 #include "core/error.h"
@@ -203,7 +205,8 @@ double polygon_area_kernel(const std::vector<Vec3>& vertices, const Vec3& n) {
     const double W = h2 + rho2, W3 = W * W * W;
     const double t1 = h2 / (6 * W3);
     const double t3 = h2 * (h2 + 3 * rho2) / (12 * W3);
-    const double t2 = sin_cos_power_integral(4, 2, std::atan2(h, rho)) / (h2 * h);
+    const SinCos angle = sin_cos_of_atan2(h, rho);  // of π/2 − T = atan2(h, ρ)
+    const double t2 = sin_cos_power_integral<4, 2>(angle.S, angle.C) / (h2 * h);
     if (rho == 0) return a * a * t1;  // c is undefined at F, but c·t2, c²·t3 are bounded there: measure zero
     const double c = (n1 * qx + n2 * qy) / rho;
     return a * a * t1 + 2 * a * c * t2 + c * c * t3;

@@ -28,10 +28,22 @@ constexpr int kPhongQuadratureDepth = 18;
 // counts as lying in the receiver's tangent plane: a few hundred ulps.
 constexpr double kCoplanarTolerance = 1e-13;
 
+// cos^e α for cos α > 0, else 0: the lobe's shape, which the integrands
+// below take from Direction::lobe_power (computed once per direction).
+double lobe_power(double exponent, double cos_alpha) {
+  return cos_alpha > 0 ? std::pow(cos_alpha, exponent) : 0.0;
+}
+
 // The lobe density's normalisation (e+1)/(2π): ∫ cos^e α dω over cos α > 0 is
-// 2π/(e+1).
-double lobe_density(double exponent, double cos_alpha) {
-  return cos_alpha > 0 ? (exponent + 1) / (2 * kPi) * std::pow(cos_alpha, exponent) : 0.0;
+// 2π/(e+1). `power` = lobe_power(exponent, cos_alpha).
+double lobe_density(double exponent, double cos_alpha, double power) {
+  return cos_alpha > 0 ? (exponent + 1) / (2 * kPi) * power : 0.0;
+}
+
+// phong_brdf from the lobe's power = lobe_power(exponent, cos_alpha): the
+// very same expression, so the very same double.
+double phong_brdf_from_power(double albedo, double exponent, double cos_alpha, double power) {
+  return cos_alpha > 0 ? albedo * (exponent + 2) / (2 * kPi) * power : 0.0;
 }
 
 // Arcs of ψ ∈ ℝ (length ≤ 2π) where A + B cos ψ + C sin ψ > 0.
@@ -89,14 +101,16 @@ struct LobeCap {
 
 // What an integrand sees of a direction ω in the cap.
 struct Direction {
-  double cos_theta;  // n·ω > 0
-  double cos_alpha;  // r·ω
+  double cos_theta;   // n·ω > 0
+  double cos_alpha;   // r·ω
+  double lobe_power;  // lobe_power(exponent, cos_alpha): one std::pow per direction, however many terms use it
   const Ring* ring;
 };
 
-// ∫ g(Direction) dω over the part of the cap (axis `axis`) above the horizon of n.
+// ∫ g(Direction) dω over the part of the cap (axis `axis`) above the horizon
+// of n, for a lobe of the given exponent.
 template <class Cap, class G>
-double cap_integral(const Cap& cap, const Vec3& axis, const Vec3& n, const Vec3& r, G g) {
+double cap_integral(const Cap& cap, const Vec3& axis, const Vec3& n, const Vec3& r, double exponent, G g) {
   const Frame frame = Frame::from_normal(axis);
   const double na = dot(n, axis), ns = dot(n, frame.s), nt = dot(n, frame.t);
   const double ra = dot(r, axis), rs = dot(r, frame.s), rt = dot(r, frame.t);
@@ -110,7 +124,7 @@ double cap_integral(const Cap& cap, const Vec3& axis, const Vec3& n, const Vec3&
         const double cos_theta = ring.cos_gamma * na + ring.sin_gamma * (c * ns + s * nt);
         if (!(cos_theta > 0)) return 0.0;
         const double cos_alpha = ring.cos_gamma * ra + ring.sin_gamma * (c * rs + s * rt);
-        return g(Direction{cos_theta, cos_alpha, &ring}) * ring.measure;
+        return g(Direction{cos_theta, cos_alpha, lobe_power(exponent, cos_alpha), &ring}) * ring.measure;
       };
       // Cut the arc at the lobe's peak azimuth.
       double peak = psi_mirror;
@@ -150,9 +164,9 @@ struct Light {
 template <class G>
 double light_integral(const Light& light, const PhongReceiver& receiver, G g) {
   const Vec3 r = receiver.mirror();
-  if (light.environment) return cap_integral(LobeCap{}, r, receiver.n, r, g);
+  if (light.environment) return cap_integral(LobeCap{}, r, receiver.n, r, receiver.exponent, g);
   const double D = length(light.center);
-  return cap_integral(SphereCap{D, light.radius}, light.center / D, receiver.n, r, g);
+  return cap_integral(SphereCap{D, light.radius}, light.center / D, receiver.n, r, receiver.exponent, g);
 }
 
 // Solid angle of a sphere's cone: 2π(1 − cos γ) = 2π sin²γ/(1 + cos γ).
@@ -163,13 +177,24 @@ double cone_solid_angle(double D, double R) {
 
 // Density in solid angle of the light strategy that samples `light` (pmf
 // included): the cone for light_solid_angle, the surface for light_area, the
-// cosine-weighted sky for the environment.
-double light_density(const Light& light, bool by_area, const Direction& d) {
-  if (light.environment) return light.pmf * d.cos_theta / kPi;
-  if (!by_area) return light.pmf / cone_solid_angle(length(light.center), light.radius);
-  const double area = 4 * kPi * light.radius * light.radius;
-  return light.pmf * d.ring->distance * d.ring->distance / (area * d.ring->cos_emission);
-}
+// cosine-weighted sky for the environment. What depends on the light alone
+// is computed once per light (LightDensity's constructor), not per direction.
+struct LightDensity {
+  const Light& light;
+  bool by_area;
+  double cone = 0;  // the cone's solid angle (sphere, light_solid_angle)
+  double area = 0;  // the sphere's area (light_area)
+  LightDensity(const Light& l, bool area_sampling) : light(l), by_area(area_sampling) {
+    if (light.environment) return;
+    if (!by_area) cone = cone_solid_angle(length(light.center), light.radius);
+    area = 4 * kPi * light.radius * light.radius;
+  }
+  double operator()(const Direction& d) const {
+    if (light.environment) return light.pmf * d.cos_theta / kPi;
+    if (!by_area) return light.pmf / cone;
+    return light.pmf * d.ring->distance * d.ring->distance / (area * d.ring->cos_emission);
+  }
+};
 
 // Whether any part of the object rises above p's horizon. An object in p's
 // tangent plane (a coplanar neighbour, above the horizon by the round-off of
@@ -216,7 +241,7 @@ std::vector<Light> phong_lights(const Scene& scene, const Vec3& p, const Vec3& n
 }  // namespace
 
 double phong_brdf(double albedo, double exponent, double cos_alpha) {
-  return cos_alpha > 0 ? albedo * (exponent + 2) / (2 * kPi) * std::pow(cos_alpha, exponent) : 0.0;
+  return phong_brdf_from_power(albedo, exponent, cos_alpha, lobe_power(exponent, cos_alpha));
 }
 
 Vec3 PhongReceiver::mirror() const { return normalize(n * (2 * dot(n, wo)) - wo); }
@@ -224,14 +249,14 @@ Vec3 PhongReceiver::mirror() const { return normalize(n * (2 * dot(n, wo)) - wo)
 double phong_sphere_reflectance(const PhongReceiver& receiver, const Vec3& center, double radius) {
   const Light light{false, center, radius, 1.0, 1.0};
   return light_integral(light, receiver, [&](const Direction& d) {
-    return phong_brdf(receiver.albedo, receiver.exponent, d.cos_alpha) * d.cos_theta;
+    return phong_brdf_from_power(receiver.albedo, receiver.exponent, d.cos_alpha, d.lobe_power) * d.cos_theta;
   });
 }
 
 double phong_directional_albedo(const PhongReceiver& receiver) {
   const Light light{true, {}, 0, 1.0, 1.0};
   return light_integral(light, receiver, [&](const Direction& d) {
-    return phong_brdf(receiver.albedo, receiver.exponent, d.cos_alpha) * d.cos_theta;
+    return phong_brdf_from_power(receiver.albedo, receiver.exponent, d.cos_alpha, d.lobe_power) * d.cos_theta;
   });
 }
 
@@ -322,13 +347,15 @@ double phong_estimator_second_moment(Strategy strategy, const PhongReceiver& pho
   double moment = 0, bsdf2 = 0, light2 = 0, bsdf1 = 0, light1 = 0;
   for (const Light& light : lights) {
     const double L = light.radiance;
-    auto h = [&](const Direction& d) { return phong_brdf(phong.albedo, e, d.cos_alpha) * d.cos_theta * L; };
-    auto h2_over_bsdf = [&](const Direction& d) {
-      return d.cos_alpha > 0 ? bsdf_ratio * std::pow(d.cos_alpha, e) * d.cos_theta * d.cos_theta * L * L : 0.0;
+    auto h = [&](const Direction& d) {
+      return phong_brdf_from_power(phong.albedo, e, d.cos_alpha, d.lobe_power) * d.cos_theta * L;
     };
-    auto p_light = [&](const Direction& d) { return light_density(light, strategy == Strategy::kLightArea, d); };
+    auto h2_over_bsdf = [&](const Direction& d) {
+      return d.cos_alpha > 0 ? bsdf_ratio * d.lobe_power * d.cos_theta * d.cos_theta * L * L : 0.0;
+    };
+    const LightDensity p_light(light, strategy == Strategy::kLightArea);
     auto weight_bsdf = [&](const Direction& d) {
-      const double pb = lobe_density(e, d.cos_alpha), pl = p_light(d);
+      const double pb = lobe_density(e, d.cos_alpha, d.lobe_power), pl = p_light(d);
       if (!(pb > 0)) return 0.0;
       return beta == 2 ? pb * pb / (pb * pb + pl * pl) : pb / (pb + pl);
     };
@@ -362,7 +389,7 @@ double phong_estimator_second_moment(Strategy strategy, const PhongReceiver& pho
       }
       case Strategy::kMisOneSample:
         moment += light_integral(light, phong, [&](const Direction& d) {
-          const double q = c * lobe_density(e, d.cos_alpha) + (1 - c) * p_light(d);
+          const double q = c * lobe_density(e, d.cos_alpha, d.lobe_power) + (1 - c) * p_light(d);
           return q > 0 ? h(d) * h(d) / q : 0.0;
         });
         break;

@@ -10,8 +10,6 @@
 #include <type_traits>
 #include <vector>
 
-#include <boost/math/quadrature/gauss.hpp>
-
 #include "analytic/error_ledger.h"
 #include "analytic/polygon.h"
 #include "core/adaptive_quadrature.h"
@@ -19,22 +17,6 @@
 #include "core/vec3.h"
 
 namespace furnace::analytic {
-
-// ∫_0^T sin^m t·cos^n t dt, T ∈ [0, π/2], by 20-point Gauss–Legendre: the
-// closed forms cancel for small T (the result is ~ T^(m+1)/(m+1)); for
-// m + n ≤ 6 the integrand is a trigonometric polynomial of degree ≤ 6, which
-// the rule integrates to far below ε, every node's term ≥ 0.
-inline double sin_cos_power_integral(int m, int n, double T) {
-  return boost::math::quadrature::gauss<double, 20>::integrate(
-      [m, n](double t) {
-        const double s = std::sin(t), c = std::cos(t);
-        double product = 1;
-        for (int i = 0; i < m; ++i) product *= s;
-        for (int i = 0; i < n; ++i) product *= c;
-        return product;
-      },
-      0.0, T);
-}
 
 // An edge from a to b seen from the origin F, in the frame of its line: d0
 // the signed distance (> 0: the edge runs counter-clockwise about F), p the
