@@ -4,6 +4,8 @@
 #include <cmath>
 #include <variant>
 
+#include <fmt/format.h>
+
 #include "core/error.h"
 #include "renderer/sampling.h"
 
@@ -84,10 +86,24 @@ MisPdfs DirectLighting::mis_pdfs(const ShadingContext& ctx, const Vec3& wi_world
 }
 
 DirectLighting::DirectLighting(const EmbreeScene& scene, const LightSet& lights, Strategy strategy, Defect defect)
-    : scene_(scene), lights_(lights), strategy_(strategy), defect_(defect) {
+    : DirectLighting(scene, lights, std::vector<Strategy>{strategy}, defect) {}
+
+DirectLighting::DirectLighting(const EmbreeScene& scene, const LightSet& lights,
+                               const std::vector<Strategy>& strategies, Defect defect)
+    : scene_(scene), lights_(lights), defect_(defect) {
+  if (strategies.empty() || strategies.size() > kMaxSharedEstimators)
+    throw Error(fmt::format("DirectLighting estimates 1 to {} strategies from shared samples, got {}.",
+                            kMaxSharedEstimators, strategies.size()));
+  for (Strategy s : strategies)
+    if (!shares_samples(strategies.front(), s))
+      throw Error(fmt::format("strategies '{}' and '{}' do not draw the same samples, so one render cannot give both.",
+                              strategy_name(strategies.front()), strategy_name(s)));
+  strategy_ = strategies.front();
+  n_estimators_ = strategies.size();
+  for (size_t e = 0; e < n_estimators_; ++e) betas_[e] = strategy_info(strategies[e]).mis_beta;
   light_.scene = &scene;
   light_.lights = &lights;
-  light_.emitter_sampling = strategy == Strategy::kLightArea ? EmitterSampling::kArea : EmitterSampling::kSolidAngle;
+  light_.emitter_sampling = strategy_ == Strategy::kLightArea ? EmitterSampling::kArea : EmitterSampling::kSolidAngle;
   light_.defect = defect;
 }
 
@@ -164,24 +180,25 @@ void DirectLighting::estimate_light(const ShadingContext& ctx, Rng* rngs, size_t
   light.for_each_visible(n, [&](size_t i, const LightSample& s) { out[i] = s.weight * s.radiance; });
 }
 
-void DirectLighting::estimate_mis(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters, int beta,
-                                  EmitterSetups* setups, double* out) const {
+void DirectLighting::estimate_mis(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters,
+                                  EmitterSetups* setups, double* const* out) const {
   const BsdfStrategy bsdf{defect_};
   LightBatch light;
   for (size_t i = 0; i < n; ++i) {
-    double estimate = 0;
+    double estimate[kMaxSharedEstimators] = {};
     // One BSDF sample, weighted against the light strategy's density for the same direction.
     if (const auto s = bsdf.sample(ctx, next_uniform3(rngs[i])); s && s->weight != 0) {
       const auto hit = trace_from(scene_, ctx, s->wi_world, counters, defect_);
       const double le = emitted_radiance_towards(scene_.scene(), hit, s->wi_world);
       if (le > 0) {
-        const double w =
-            s->delta ? 1.0
-                     : mis_weights({s->pdf_solid_angle, light_.pdf(ctx, s->wi_world, hit, setups)}, beta, defect_).w_bsdf;
-        estimate += w * s->weight * le;
+        const double p_light = s->delta ? 0.0 : light_.pdf(ctx, s->wi_world, hit, setups);
+        for (size_t e = 0; e < n_estimators_; ++e) {
+          const double w = s->delta ? 1.0 : mis_weights({s->pdf_solid_angle, p_light}, betas_[e], defect_).w_bsdf;
+          estimate[e] += w * s->weight * le;
+        }
       }
     }
-    out[i] = estimate;
+    for (size_t e = 0; e < n_estimators_; ++e) out[e][i] = estimate[e];
     // One light sample (its shadow ray traced with the batch's).
     light.draw(i, light_, ctx, next_uniform3(rngs[i]), setups);
   }
@@ -191,9 +208,11 @@ void DirectLighting::estimate_mis(const ShadingContext& ctx, Rng* rngs, size_t n
   // (weight 1): BSDF sampling never finds it.
   light.for_each_visible(n, [&](size_t i, const LightSample& s) {
     const double p_bsdf = bsdf.pdf(ctx, s.wi_world);
-    const double w = s.delta ? delta_light_mis_weight(s, p_bsdf, defect_)
-                             : mis_weights({p_bsdf, s.pdf_solid_angle}, beta, defect_).w_light;
-    out[i] += w * s.weight * s.radiance;
+    for (size_t e = 0; e < n_estimators_; ++e) {
+      const double w = s.delta ? delta_light_mis_weight(s, p_bsdf, defect_)
+                               : mis_weights({p_bsdf, s.pdf_solid_angle}, betas_[e], defect_).w_light;
+      out[e][i] += w * s.weight * s.radiance;
+    }
   });
 }
 
@@ -246,23 +265,29 @@ double DirectLighting::estimate(const ShadingContext& ctx, Rng& rng, TraceCounte
 
 void DirectLighting::estimate(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters,
                               EmitterSetups* setups, double* out) const {
+  FURNACE_CHECK(n_estimators_ == 1);
+  double* const outs[1] = {out};
+  estimate_shared(ctx, rngs, n, counters, setups, outs);
+}
+
+void DirectLighting::estimate_shared(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters,
+                                     EmitterSetups* setups, double* const* out) const {
   FURNACE_CHECK(n <= kRayPacket);
   if (ctx.bsdf.is_black()) {
-    std::fill(out, out + n, 0.0);
+    for (size_t e = 0; e < n_estimators_; ++e) std::fill(out[e], out[e] + n, 0.0);
     return;
   }
   switch (strategy_) {
     case Strategy::kUniformHemisphere:
-      return estimate_direction(UniformHemisphereStrategy{defect_}, ctx, rngs, n, counters, out);
+      return estimate_direction(UniformHemisphereStrategy{defect_}, ctx, rngs, n, counters, out[0]);
     case Strategy::kCosineHemisphere:
-      return estimate_direction(CosineHemisphereStrategy{defect_}, ctx, rngs, n, counters, out);
-    case Strategy::kBsdf: return estimate_direction(BsdfStrategy{defect_}, ctx, rngs, n, counters, out);
+      return estimate_direction(CosineHemisphereStrategy{defect_}, ctx, rngs, n, counters, out[0]);
+    case Strategy::kBsdf: return estimate_direction(BsdfStrategy{defect_}, ctx, rngs, n, counters, out[0]);
     case Strategy::kLightArea:
-    case Strategy::kLightSolidAngle: return estimate_light(ctx, rngs, n, counters, setups, out);
+    case Strategy::kLightSolidAngle: return estimate_light(ctx, rngs, n, counters, setups, out[0]);
     case Strategy::kMisBalance:
-    case Strategy::kMisPower:
-      return estimate_mis(ctx, rngs, n, counters, strategy_info(strategy_).mis_beta, setups, out);
-    case Strategy::kMisOneSample: return estimate_one_sample(ctx, rngs, n, counters, setups, out);
+    case Strategy::kMisPower: return estimate_mis(ctx, rngs, n, counters, setups, out);
+    case Strategy::kMisOneSample: return estimate_one_sample(ctx, rngs, n, counters, setups, out[0]);
     case Strategy::kPathNaive:
     case Strategy::kPathMis: break;
   }

@@ -14,11 +14,13 @@
 
 #include <array>
 #include <optional>
+#include <vector>
 
 #include "core/strategy.h"
 #include "renderer/estimator.h"
 #include "renderer/light_strategy.h"
 #include "renderer/lights.h"
+#include "renderer/render.h"
 #include "renderer/rng.h"
 
 namespace furnace {
@@ -65,7 +67,19 @@ MisWeights mis_weights(const MisPdfs& pdfs, int beta, Defect defect);
 // (one of the direct-lighting strategies).
 class DirectLighting {
  public:
+  // The most strategies one DirectLighting estimates from shared samples.
+  static constexpr size_t kMaxSharedEstimators = kMaxSharedStrategies;
+
   DirectLighting(const EmbreeScene& scene, const LightSet& lights, Strategy strategy, Defect defect);
+  // Several strategies estimated from the same samples (render.h's
+  // shares_samples holds for every pair; at most kMaxSharedEstimators):
+  // estimate_shared() gives each one's value of every sample, each to the
+  // bit what a DirectLighting of that strategy alone gives. Throws
+  // furnace::Error for a list that does not share its samples.
+  DirectLighting(const EmbreeScene& scene, const LightSet& lights, const std::vector<Strategy>& strategies,
+                 Defect defect);
+  // How many strategies this estimates (1 unless built from a list).
+  size_t estimators() const { return n_estimators_; }
   // `setups`, when bound to ctx, keeps the light strategy's per-emitter set-up
   // between the samples of one shading point (EmitterSetups; same results).
   double estimate(const ShadingContext& ctx, Rng& rng, TraceCounters& counters,
@@ -73,8 +87,13 @@ class DirectLighting {
   // n ≤ kRayPacket samples at once: out[i] is estimate(ctx, rngs[i], …) to
   // the bit (each sample draws from its own stream in the same order), and
   // the samples' rays go to Embree as packets (EmbreeScene's batch queries).
+  // (One estimator only: estimators() == 1.)
   void estimate(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters, EmitterSetups* setups,
                 double* out) const;
+  // The batch form for every estimator at once: out[e][i] is strategy e's
+  // value of sample i, out[e] holding n values for each e < estimators().
+  void estimate_shared(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters,
+                       EmitterSetups* setups, double* const* out) const;
   // Both strategies' densities of wi_world at ctx (the ray along it found
   // `hit`), exactly as estimate_mis() weighs its samples. For tests of MIS.
   MisPdfs mis_pdfs(const ShadingContext& ctx, const Vec3& wi_world, const std::optional<SurfaceHit>& hit) const;
@@ -86,8 +105,10 @@ class DirectLighting {
                           TraceCounters& counters, double* out) const;
   void estimate_light(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters,
                       EmitterSetups* setups, double* out) const;
-  void estimate_mis(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters, int beta,
-                    EmitterSetups* setups, double* out) const;
+  // Multi-sample MIS under the heuristic of each estimator (betas_): the
+  // samples, rays and densities once, the weights per heuristic.
+  void estimate_mis(const ShadingContext& ctx, Rng* rngs, size_t n, TraceCounters& counters,
+                    EmitterSetups* setups, double* const* out) const;
   // mis_one_sample: Veach's one-sample model (1997, §9.2.4) with the balance
   // heuristic. Strategy i ∈ {bsdf, light} is chosen with probability c_i and
   // its sample X gives f(X)·Li(X)·cos θ / Σ_j c_j·p_j(X); a delta sample (a
@@ -98,9 +119,11 @@ class DirectLighting {
 
   const EmbreeScene& scene_;
   const LightSet& lights_;
-  Strategy strategy_;
+  Strategy strategy_;  // the first estimator's
   Defect defect_;
   LightStrategy light_;
+  size_t n_estimators_ = 1;
+  std::array<int, kMaxSharedEstimators> betas_{};  // the MIS heuristic of each estimator (MIS strategies only)
 };
 
 }  // namespace furnace

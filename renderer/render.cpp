@@ -44,7 +44,20 @@ std::array<Rng, kRayPacket> streams(uint64_t pixel_key, uint64_t first) {
 
 }  // namespace
 
+bool shares_samples(Strategy a, Strategy b) {
+  const auto multi_sample_mis = [](Strategy s) { return s == Strategy::kMisBalance || s == Strategy::kMisPower; };
+  return a == b || (multi_sample_mis(a) && multi_sample_mis(b));
+}
+
 Image render(const Scene& scene, const RenderOptions& options) {
+  return std::move(render_sharing_samples(scene, options, {options.strategy}).front());
+}
+
+std::vector<Image> render_sharing_samples(const Scene& scene, const RenderOptions& options_in,
+                                          const std::vector<Strategy>& strategies) {
+  if (strategies.empty()) throw Error("render_sharing_samples needs at least one strategy.");
+  RenderOptions options = options_in;
+  options.strategy = strategies.front();
   // DEFECT(back_face_emits): every planar emitter taken as two-sided, so a
   // one-sided light also emits from its back. (A sphere's back is its inside,
   // which no point outside it sees: spheres are left as they are.)
@@ -54,7 +67,7 @@ Image render(const Scene& scene, const RenderOptions& options) {
       if (o.is_emitter() && is_planar(o.shape)) o.two_sided = true;
     RenderOptions rest = options;
     rest.defect = Defect::kNone;
-    return render(both_sides, rest);
+    return render_sharing_samples(both_sides, rest, strategies);
   }
   const auto start = std::chrono::steady_clock::now();
   if (options.spp < 1) throw Error(fmt::format("render option spp must be at least 1, got {}.", options.spp));
@@ -85,35 +98,47 @@ Image render(const Scene& scene, const RenderOptions& options) {
   EmbreeScene rtc_scene(device, scene);
   rtc_scene.record_rays(options.ray_log);
   const LightSet lights(scene, options.light_selection);
-  if (samples_lights(options.strategy) && lights.count() == 0)
-    throw Error(fmt::format("scene '{}' has no emitter and no environment, so strategy '{}' has no light to sample.",
-                            scene.source.empty() ? scene.name : scene.source, strategy_name(options.strategy)));
-  if (!scene.point_lights.empty() && !strategy_sees_delta_lights(options.strategy))
-    throw Error(fmt::format("scene '{}' has point lights, which strategy '{}' cannot see (no ray hits a delta light).",
-                            scene.source.empty() ? scene.name : scene.source, strategy_name(options.strategy)));
+  for (Strategy strategy : strategies) {
+    if (samples_lights(strategy) && lights.count() == 0)
+      throw Error(fmt::format("scene '{}' has no emitter and no environment, so strategy '{}' has no light to sample.",
+                              scene.source.empty() ? scene.name : scene.source, strategy_name(strategy)));
+    if (!scene.point_lights.empty() && !strategy_sees_delta_lights(strategy))
+      throw Error(fmt::format("scene '{}' has point lights, which strategy '{}' cannot see (no ray hits a delta light).",
+                              scene.source.empty() ? scene.name : scene.source, strategy_name(strategy)));
+  }
 
-  const DirectLighting direct(rtc_scene, lights, options.strategy, options.defect);
-  const PathTracer path_tracer(rtc_scene, lights, options);
   const bool path = is_path_tracer(options.strategy);
+  // A path tracer shares its samples with no other strategy (shares_samples):
+  // one estimator. DirectLighting checks the direct strategies' list.
+  if (path && strategies.size() != 1)
+    throw Error(fmt::format("strategy '{}' shares its samples with no other strategy, so one render gives one image.",
+                            strategy_name(options.strategy)));
+  const DirectLighting direct(rtc_scene, lights, strategies, options.defect);
+  const PathTracer path_tracer(rtc_scene, lights, options);
+  const size_t n_estimators = strategies.size();
 
-  Image image;
-  image.width = scene.camera.width_px;
-  image.height = scene.camera.height_px;
-  const size_t n_pixels = size_t(image.width) * size_t(image.height);
-  image.pixels.assign(n_pixels, PixelMoments{});
+  const size_t n_pixels = size_t(scene.camera.width_px) * size_t(scene.camera.height_px);
+  std::vector<Image> images(n_estimators);
+  for (Image& image : images) {
+    image.width = scene.camera.width_px;
+    image.height = scene.camera.height_px;
+    image.pixels.assign(n_pixels, PixelMoments{});
+  }
+  const int width = scene.camera.width_px;
 
   tbb::combinable<TraceCounters> counters;
-  tbb::combinable<uint64_t> nonfinite([] { return uint64_t(0); });
+  using Nonfinite = std::array<uint64_t, DirectLighting::kMaxSharedEstimators>;
+  tbb::combinable<Nonfinite> nonfinite([] { return Nonfinite{}; });
   // The light strategy's per-emitter set-up at a pixel's shading point, one
   // store per thread (its vectors grow once, not per chunk of pixels).
   tbb::combinable<EmitterSetups> emitter_setups;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n_pixels, kPixelGrain), [&](const tbb::blocked_range<size_t>& r) {
     TraceCounters& c = counters.local();
-    uint64_t& bad = nonfinite.local();
+    Nonfinite& bad = nonfinite.local();
     EmitterSetups& setups = emitter_setups.local();  // rebound to each pixel's shading point below
     for (size_t pixel = r.begin(); pixel != r.end(); ++pixel) {
-      const int px = int(pixel % size_t(image.width));
-      const int py = int(pixel / size_t(image.width));
+      const int px = int(pixel % size_t(width));
+      const int py = int(pixel / size_t(width));
       const Camera::Ray ray = scene.camera.pixel_center_ray(px, py);
       // The camera ray is the same for every sample of the pixel: trace it once.
       ++c.rays;
@@ -124,42 +149,55 @@ Image render(const Scene& scene, const RenderOptions& options) {
         ctx = ShadingContext::at(*hit, -ray.direction, scene.objects[hit->object].material, options.defect);
         setups.bind(*ctx, scene.objects.size());
       }
-      // Accumulated in a local, stored once: the image's element, reached
+      // Accumulated in locals, stored once: the image's element, reached
       // through a reference the estimator calls might alias, would be loaded
       // and stored around every sample.
-      PixelMoments moments;
+      std::array<PixelMoments, DirectLighting::kMaxSharedEstimators> moments;
       const uint64_t pixel_key = Rng::pixel_key(options.seed, pixel);
       // Samples kRayPacket at a time, each from its own stream, accumulated in
       // sample order: direct lighting traces a batch's rays as Embree packets.
       for (int first = 0; first < options.spp; first += int(kRayPacket)) {
         const size_t n = std::min(kRayPacket, size_t(options.spp - first));
         std::array<Rng, kRayPacket> rngs = streams(pixel_key, uint64_t(first));
-        std::array<double, kRayPacket> y;
+        std::array<std::array<double, kRayPacket>, DirectLighting::kMaxSharedEstimators> y;
         if (path) {
-          for (size_t i = 0; i < n; ++i) y[i] = path_tracer.radiance(ray.direction, hit, rngs[i], c, &setups);
+          for (size_t i = 0; i < n; ++i) y[0][i] = path_tracer.radiance(ray.direction, hit, rngs[i], c, &setups);
         } else if (ctx) {
-          direct.estimate(*ctx, rngs.data(), n, c, &setups, y.data());
-          for (size_t i = 0; i < n; ++i) y[i] = le + y[i];
+          std::array<double*, DirectLighting::kMaxSharedEstimators> outs;
+          for (size_t e = 0; e < n_estimators; ++e) outs[e] = y[e].data();
+          direct.estimate_shared(*ctx, rngs.data(), n, c, &setups, outs.data());
+          for (size_t e = 0; e < n_estimators; ++e)
+            for (size_t i = 0; i < n; ++i) y[e][i] = le + y[e][i];
         } else {
-          y.fill(le);
+          for (size_t e = 0; e < n_estimators; ++e) y[e].fill(le);
         }
-        for (size_t i = 0; i < n; ++i) {
-          // DEFECT(nan_sample): a fixed 1/1024 of the (pixel, sample) pairs runs away.
-          if (options.defect == Defect::kNanSample && (pixel + size_t(first) + i) % 1024 == 0)
-            y[i] = std::numeric_limits<double>::quiet_NaN();
-          if (std::isfinite(y[i])) moments.add(y[i]);
-          else ++bad;  // error tier 3: dropped and counted
-        }
+        for (size_t e = 0; e < n_estimators; ++e)
+          for (size_t i = 0; i < n; ++i) {
+            // DEFECT(nan_sample): a fixed 1/1024 of the (pixel, sample) pairs runs away.
+            if (options.defect == Defect::kNanSample && (pixel + size_t(first) + i) % 1024 == 0)
+              y[e][i] = std::numeric_limits<double>::quiet_NaN();
+            if (std::isfinite(y[e][i])) moments[e].add(y[e][i]);
+            else ++bad[e];  // error tier 3: dropped and counted
+          }
       }
-      image.pixels[pixel] = moments;
+      for (size_t e = 0; e < n_estimators; ++e) images[e].pixels[pixel] = moments[e];
     }
   });
   device.check(fmt::format("rendering the scene '{}'", scene.name));
 
-  counters.combine_each([&](const TraceCounters& c) { image.rays += c.rays; });
-  nonfinite.combine_each([&](uint64_t n) { image.nonfinite_samples += n; });
-  image.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return image;
+  uint64_t rays = 0;
+  counters.combine_each([&](const TraceCounters& c) { rays += c.rays; });
+  Nonfinite nonfinite_total{};
+  nonfinite.combine_each([&](const Nonfinite& n) {
+    for (size_t e = 0; e < n_estimators; ++e) nonfinite_total[e] += n[e];
+  });
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (size_t e = 0; e < n_estimators; ++e) {
+    images[e].rays = rays;
+    images[e].nonfinite_samples = nonfinite_total[e];
+    images[e].seconds = seconds;
+  }
+  return images;
 }
 
 }  // namespace furnace

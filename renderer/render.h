@@ -2,6 +2,8 @@
 // and return, per pixel, the running moments of the single-sample estimator.
 #pragma once
 
+#include <vector>
+
 #include "core/scene.h"
 #include "core/strategy.h"
 #include "renderer/image.h"
@@ -18,5 +20,21 @@ namespace furnace {
 // emitter (nor environment) for light sampling, if it has point lights and the
 // strategy cannot see them (strategy_sees_delta_lights), or on a bad option.
 Image render(const Scene& scene, const RenderOptions& options);
+
+// Whether strategies a and b, from one seed, draw the same numbers, trace the
+// same rays and compute the same densities, and differ only in how they
+// weigh the samples: true for a == b and for mis_balance with mis_power (the
+// MIS heuristic). One render then gives both images (render_sharing_samples).
+bool shares_samples(Strategy a, Strategy b);
+// The most strategies one render_sharing_samples call renders together.
+inline constexpr size_t kMaxSharedStrategies = 2;
+
+// One render for every strategy of `strategies` (1 to kMaxSharedStrategies,
+// each pair shares_samples; options.strategy is ignored): image e is render(scene, options with
+// strategy = strategies[e]) to the bit (its rays are the same rays), but for
+// `seconds`: the wall time of the one shared render. Throws furnace::Error as render() does, and for an empty
+// list or strategies that do not share their samples.
+std::vector<Image> render_sharing_samples(const Scene& scene, const RenderOptions& options,
+                                          const std::vector<Strategy>& strategies);
 
 }  // namespace furnace

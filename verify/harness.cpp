@@ -261,34 +261,12 @@ const std::vector<double>& AnalyticCache::predicted_variance(const Case& c, cons
                          [&] { return compute_predicted_variance(c, scene, reference); });
 }
 
-std::vector<Verdict> run_cases(const std::vector<Case>& cases, double per_case_alpha, int threads,
-                               const std::function<void()>& case_done) {
-  std::optional<tbb::global_control> limit;
-  if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
-  AnalyticCache analytic_values;
-  std::vector<Verdict> verdicts(cases.size());
-  std::mutex done_mutex;
-  // One case per task: TBB runs as many cases at once as it has workers and
-  // splits each case's pixel loops among idle ones, so no core waits for a
-  // case's serial steps (scene set-up, the statistics) or for the last pixels.
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, cases.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      verdicts[i] = run_case(cases[i], per_case_alpha, &analytic_values);
-      if (case_done) {
-        std::lock_guard<std::mutex> lock(done_mutex);
-        case_done();
-      }
-    }
-  });
-  return verdicts;
-}
+namespace {
 
-Verdict run_case(const Case& c, double per_case_alpha, AnalyticCache* cache) {
-  AnalyticCache own;  // a cache for this case alone when the caller keeps none
-  AnalyticCache& analytic_values = cache ? *cache : own;
-  const Scene scene = load_scene(c.scene_path);
-  const std::vector<double>& reference = analytic_values.reference(c, scene);
-  const Image image = render(scene, c.options);
+// The verdict of case c on its rendered `image` (c's render, or a shared
+// render's image for c's strategy), against `reference`.
+Verdict evaluate_case(const Case& c, const Scene& scene, const Image& image, const std::vector<double>& reference,
+                      double per_case_alpha, AnalyticCache& analytic_values) {
   FURNACE_CHECK(image.pixels.size() == reference.size());
 
   Verdict v;
@@ -378,6 +356,72 @@ Verdict run_case(const Case& c, double per_case_alpha, AnalyticCache* cache) {
   v.mean_pass = image_test.test.pass && v.pixel_failures == 0 && v.nonfinite_samples == 0;
   v.pass = v.mean_pass && variance_pass;
   return v;
+}
+
+
+// Whether cases a and b can take their images from one render: the same
+// scene file and options but for strategies that share their samples
+// (render.h's shares_samples), no ray log.
+bool share_render(const Case& a, const Case& b) {
+  const RenderOptions &x = a.options, &y = b.options;
+  return a.scene_path == b.scene_path && shares_samples(x.strategy, y.strategy) && x.defect == y.defect &&
+         x.light_selection == y.light_selection && x.spp == y.spp && x.seed == y.seed && x.threads == y.threads &&
+         x.max_depth == y.max_depth && x.roulette_depth == y.roulette_depth && !x.ray_log && !y.ray_log;
+}
+
+}  // namespace
+
+std::vector<Verdict> run_cases(const std::vector<Case>& cases, double per_case_alpha, int threads,
+                               const std::function<void()>& case_done) {
+  std::optional<tbb::global_control> limit;
+  if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
+  AnalyticCache analytic_values;
+  // Cases that can share one render (share_render), up to kMaxSharedStrategies
+  // each, in case order: each group renders once (render_sharing_samples,
+  // every image the one its case's own render gives, to the bit).
+  std::vector<std::vector<size_t>> groups;
+  for (size_t i = 0; i < cases.size(); ++i) {
+    auto joins = [&](const std::vector<size_t>& g) {
+      return g.size() < kMaxSharedStrategies && cases[g.front()].options.strategy != cases[i].options.strategy &&
+             share_render(cases[g.front()], cases[i]);
+    };
+    auto it = std::find_if(groups.begin(), groups.end(), joins);
+    if (it != groups.end()) it->push_back(i);
+    else groups.push_back({i});
+  }
+  std::vector<Verdict> verdicts(cases.size());
+  std::mutex done_mutex;
+  // One group per task: TBB runs as many at once as it has workers and
+  // splits each render's pixel loops among idle ones, so no core waits for a
+  // case's serial steps (scene set-up, the statistics) or for the last pixels.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, groups.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t g = r.begin(); g != r.end(); ++g) {
+      const std::vector<size_t>& group = groups[g];
+      const Case& first = cases[group.front()];
+      const Scene scene = load_scene(first.scene_path);
+      std::vector<Strategy> strategies;
+      for (size_t i : group) strategies.push_back(cases[i].options.strategy);
+      const std::vector<double>& reference = analytic_values.reference(first, scene);
+      const std::vector<Image> images = render_sharing_samples(scene, first.options, strategies);
+      for (size_t k = 0; k < group.size(); ++k) {
+        verdicts[group[k]] = evaluate_case(cases[group[k]], scene, images[k], reference, per_case_alpha,
+                                           analytic_values);
+        if (case_done) {
+          std::lock_guard<std::mutex> lock(done_mutex);
+          case_done();
+        }
+      }
+    }
+  });
+  return verdicts;
+}
+
+Verdict run_case(const Case& c, double per_case_alpha, AnalyticCache* cache) {
+  AnalyticCache own;  // a cache for this case alone when the caller keeps none
+  AnalyticCache& analytic_values = cache ? *cache : own;
+  const Scene scene = load_scene(c.scene_path);
+  const std::vector<double>& reference = analytic_values.reference(c, scene);
+  return evaluate_case(c, scene, render(scene, c.options), reference, per_case_alpha, analytic_values);
 }
 
 VerdictKind verdict_kind(const Verdict& v) {

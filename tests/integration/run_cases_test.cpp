@@ -1,5 +1,6 @@
 // verify::run_cases, the loop `furnace verify` and `furnace sweep` run:
-// several cases at a time sharing one AnalyticCache. Every verdict must be the
+// several cases at a time sharing one AnalyticCache, cases whose strategies
+// share their samples (mis_balance, mis_power) from one render. Every verdict must be the
 // one run_case gives the case alone, without a cache, in every field but the
 // render's wall time; the cache must keep apart what its keys separate.
 #include <gtest/gtest.h>
@@ -54,6 +55,10 @@ std::vector<Case> mixed_cases() {
           make_case("three_lights.json", Strategy::kLightArea),
           make_case("three_lights.json", Strategy::kLightArea, kSeed, LightSelection::kPower),
           make_case("three_lights.json", Strategy::kMisPower, kSeed, LightSelection::kPower),
+          // Rendered together with the power-selected mis_power above (one shared render), not with
+          // the uniform-selection mis_balance further down.
+          make_case("three_lights.json", Strategy::kMisBalance, kSeed, LightSelection::kPower),
+          make_case("three_lights.json", Strategy::kMisBalance),
           make_case("enclosure_box.json", Strategy::kPathNaive),
           make_case("enclosure_box.json", Strategy::kPathNaive, kSeed, LightSelection::kUniform, 4),
           make_case("enclosure_box.json", Strategy::kPathMis, kSeed, LightSelection::kUniform, 4),
