@@ -20,6 +20,7 @@
 #include "analytic/planar_light.h"
 #include "analytic/environment.h"
 #include "analytic/polygon_patch.h"
+#include "analytic/sin_cos.h"
 #include "analytic/environment_map.h"
 #include "analytic/reference.h"
 #include "core/adaptive_quadrature.h"
@@ -240,8 +241,9 @@ constexpr size_t kMisInnerBisections = 6;
 
 // ∫ g(cos θ, p_light) dω over a family of rings: outer u ∈ [u0, u1] (split
 // at `kinks`, where the horizon starts to cut the rings), inner φ over the
-// arcs where cos θ = A + B cos φ + C sin φ > 0 (ring.coefficients); ring.row(u)
-// holds what depends on u alone, and ring.at(row, φ) gives cos θ, p_light and
+// arcs where cos θ = A + B cos φ + C sin φ > 0 (ring.coefficients), in the
+// half-angle variable of each arc (HalfAngleArcs); ring.row(u) holds what
+// depends on u alone, and ring.at(row, cos φ, sin φ) gives cos θ, p_light and
 // the measure dω/(du dφ) at (u, φ). Gauss–Kronrod
 // (31 points), adaptive (core/adaptive_quadrature.h: Boost's own recursion never
 // terminates on the tiny intervals of a far sphere's cone), relative
@@ -258,20 +260,28 @@ V ring_integral(double u0, double u1, const std::vector<double>& kinks, Ring rin
     const auto row = ring.row(u);  // what depends on u alone, once per ring
     V sum{};
     for (const auto& [lo, hi] : positive_arcs(A, B, C)) {
-      auto inner = [&](double phi) {
-        double cos_theta, p_light, measure;
-        ring.at(row, phi, &cos_theta, &p_light, &measure);
-        if (!(cos_theta > 0)) return V{};
-        V value = g(cos_theta, p_light);
-        for (double& component : value) component *= measure;
-        return value;
-      };
-      V error{};
-      const V value = adaptive_gauss_kronrod_relative_components(inner, lo, hi, kMisQuadratureTolerance,
-                                                                 kMisQuadratureDepth, 1, kUnlimitedBisections, &error);
-      for (size_t c = 0; c < N; ++c) {
-        if (value[c] != 0) worst_inner[c] = std::fmax(worst_inner[c], std::fabs(error[c] / value[c]));
-        sum[c] += value[c];
+      // φ by the half-angle variable of each piece of the arc (HalfAngleArcs: no sin or cos at the nodes).
+      const HalfAngleArcs arcs = HalfAngleArcs::of(lo, hi);
+      for (int a = 0; a < arcs.count; ++a) {
+        const HalfAngleArc& arc = arcs.piece[a];
+        auto inner = [&](double tau) {
+          double cos_phi, sin_phi, dphi_dtau;
+          arc.at(tau, &cos_phi, &sin_phi, &dphi_dtau);
+          double cos_theta, p_light, measure;
+          ring.at(row, cos_phi, sin_phi, &cos_theta, &p_light, &measure);
+          if (!(cos_theta > 0)) return V{};
+          V value = g(cos_theta, p_light);
+          for (double& component : value) component *= measure * dphi_dtau;
+          return value;
+        };
+        V error{};
+        const V value = adaptive_gauss_kronrod_relative_components(inner, -arc.tau_max, arc.tau_max,
+                                                                   kMisQuadratureTolerance, kMisQuadratureDepth, 1,
+                                                                   kUnlimitedBisections, &error);
+        for (size_t c = 0; c < N; ++c) {
+          if (value[c] != 0) worst_inner[c] = std::fmax(worst_inner[c], std::fabs(error[c] / value[c]));
+          sum[c] += value[c];
+        }
       }
     }
     return sum;
@@ -307,9 +317,8 @@ struct SphereRings {
     double cos_gamma, sin_gamma;
   };
   Row row(double gamma) const { return {std::cos(gamma), std::sin(gamma)}; }
-  void at(const Row& ring, double psi, double* cos_theta, double* p, double* measure) const {
-    *cos_theta = ring.cos_gamma * dot(n, frame.n) +
-                 ring.sin_gamma * (std::cos(psi) * dot(n, frame.s) + std::sin(psi) * dot(n, frame.t));
+  void at(const Row& ring, double cos_psi, double sin_psi, double* cos_theta, double* p, double* measure) const {
+    *cos_theta = ring.cos_gamma * dot(n, frame.n) + ring.sin_gamma * (cos_psi * dot(n, frame.s) + sin_psi * dot(n, frame.t));
     *p = p_light;
     *measure = ring.sin_gamma;
   }
@@ -326,8 +335,8 @@ struct DiskRings {
     *C = rho * dot(n, e2);
   }
   double row(double rho) const { return rho; }
-  void at(double rho, double phi, double* cos_theta, double* p, double* measure) const {
-    const Vec3 x = center + e1 * (rho * std::cos(phi)) + e2 * (rho * std::sin(phi));
+  void at(double rho, double cos_phi, double sin_phi, double* cos_theta, double* p, double* measure) const {
+    const Vec3 x = center + e1 * (rho * cos_phi) + e2 * (rho * sin_phi);
     const double r2 = length_squared(x), r = std::sqrt(r2);
     const double cos_light = std::fabs(dot(m, x)) / r;
     *cos_theta = dot(n, x) / r;

@@ -12,6 +12,7 @@
 #include "analytic/disk_light.h"
 #include "analytic/occlusion.h"
 #include "analytic/point_light.h"
+#include "analytic/sin_cos.h"
 #include "core/adaptive_quadrature.h"
 #include "core/error.h"
 
@@ -119,22 +120,32 @@ double cap_integral(const Cap& cap, const Vec3& axis, const Vec3& n, const Vec3&
     const Ring ring = cap.at(u);
     double sum = 0;
     for (auto [lo, hi] : positive_arcs(ring.cos_gamma * na, ring.sin_gamma * ns, ring.sin_gamma * nt)) {
-      auto inner = [&](double psi) {
-        const double c = std::cos(psi), s = std::sin(psi);
-        const double cos_theta = ring.cos_gamma * na + ring.sin_gamma * (c * ns + s * nt);
-        if (!(cos_theta > 0)) return 0.0;
-        const double cos_alpha = ring.cos_gamma * ra + ring.sin_gamma * (c * rs + s * rt);
-        return g(Direction{cos_theta, cos_alpha, lobe_power(exponent, cos_alpha), &ring}) * ring.measure;
+      // ψ over [a, b] by the half-angle variable of each of its pieces (HalfAngleArcs: no sin or cos at the nodes).
+      auto arc_integral = [&](double a, double b) {
+        const HalfAngleArcs arcs = HalfAngleArcs::of(a, b);
+        double value = 0;
+        for (int k = 0; k < arcs.count; ++k) {
+          const HalfAngleArc& arc = arcs.piece[k];
+          auto inner = [&](double tau) {
+            double c, s, dpsi_dtau;
+            arc.at(tau, &c, &s, &dpsi_dtau);
+            const double cos_theta = ring.cos_gamma * na + ring.sin_gamma * (c * ns + s * nt);
+            if (!(cos_theta > 0)) return 0.0;
+            const double cos_alpha = ring.cos_gamma * ra + ring.sin_gamma * (c * rs + s * rt);
+            return g(Direction{cos_theta, cos_alpha, lobe_power(exponent, cos_alpha), &ring}) * ring.measure *
+                   dpsi_dtau;
+          };
+          value += adaptive_gauss_kronrod_relative(inner, -arc.tau_max, arc.tau_max, kPhongQuadratureTolerance,
+                                                   kPhongQuadratureDepth);
+        }
+        return value;
       };
       // Cut the arc at the lobe's peak azimuth.
       double peak = psi_mirror;
       while (peak < lo) peak += 2 * kPi;
       while (peak >= lo + 2 * kPi) peak -= 2 * kPi;
-      if (peak > lo && peak < hi)
-        sum += adaptive_gauss_kronrod_relative(inner, lo, peak, kPhongQuadratureTolerance, kPhongQuadratureDepth) +
-               adaptive_gauss_kronrod_relative(inner, peak, hi, kPhongQuadratureTolerance, kPhongQuadratureDepth);
-      else
-        sum += adaptive_gauss_kronrod_relative(inner, lo, hi, kPhongQuadratureTolerance, kPhongQuadratureDepth);
+      if (peak > lo && peak < hi) sum += arc_integral(lo, peak) + arc_integral(peak, hi);
+      else sum += arc_integral(lo, hi);
     }
     return sum;
   };

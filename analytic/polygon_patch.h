@@ -12,6 +12,7 @@
 
 #include "analytic/error_ledger.h"
 #include "analytic/polygon.h"
+#include "analytic/sin_cos.h"
 #include "core/adaptive_quadrature.h"
 #include "core/error.h"
 #include "core/vec3.h"
@@ -114,15 +115,6 @@ V polygon_direction_integral(const std::vector<Vec3>& vertices, const Vec3& n, d
   auto ray = [&](double c_phi, double s_phi, double rho) {
     const double c = n1 * c_phi + n2 * s_phi;
     const Vec3 w = frame.s * c_phi + frame.t * s_phi;
-    // x: t itself (inside) or s = π/2 − t (outside).
-    auto g = [&](double x) {
-      // Both of sin x and cos x, unconditionally: the compiler makes them one sincos call.
-      const double sin_x = std::sin(x), cos_x = std::cos(x);
-      const double ct = outside ? sin_x : cos_x, st = outside ? cos_x : sin_x;
-      V value = f(axis * ct + w * st, ct);
-      for (double& component : value) component *= st;
-      return value;
-    };
     const double hi = outside ? std::atan2(h, rho) : std::atan2(rho, h);
     // n·u = 0 at t = atan2(−n·axis, c), i.e. s = atan2(−c, n·axis) (mod π).
     const double x_h = outside ? std::atan2(-c, n_axis) : std::atan2(-n_axis, c);
@@ -133,8 +125,19 @@ V polygon_direction_integral(const std::vector<Vec3>& vertices, const Vec3& n, d
     V sum{}, error{};
     for (int i = 0; i + 1 < k; ++i)
       if (cuts[i + 1] > cuts[i]) {
-        const V piece = adaptive_gauss_kronrod_relative_components(g, cuts[i], cuts[i + 1], rel_tolerance, depth, 1,
-                                                                   inner_bisections, &error);
+        // x: t itself (inside) or s = π/2 − t (outside), in the piece's
+        // half-angle variable (HalfAngleArc: no sin or cos at the nodes).
+        const HalfAngleArc arc = HalfAngleArc::of(cuts[i], cuts[i + 1]);
+        auto g = [&](double tau) {
+          double cos_x, sin_x, dx_dtau;
+          arc.at(tau, &cos_x, &sin_x, &dx_dtau);
+          const double ct = outside ? sin_x : cos_x, st = outside ? cos_x : sin_x;
+          V value = f(axis * ct + w * st, ct);
+          for (double& component : value) component *= st * dx_dtau;
+          return value;
+        };
+        const V piece = adaptive_gauss_kronrod_relative_components(g, -arc.tau_max, arc.tau_max, rel_tolerance, depth,
+                                                                   1, inner_bisections, &error);
         for (size_t j = 0; j < N; ++j) sum[j] += piece[j];
       }
     for (size_t j = 0; j < N; ++j)

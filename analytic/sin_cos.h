@@ -1,6 +1,8 @@
-// sin and cos of an angle given by its legs, without a trigonometric call:
-// the light-area kernels' radial integrals (sin_cos_power_integral.h) need
-// sin T and cos T of T = atan2(ρ, h) at every quadrature node.
+// sin and cos without a trigonometric call at quadrature nodes: of an angle
+// given by its legs (the light-area kernels' radial integrals,
+// sin_cos_power_integral.h, need sin T and cos T of T = atan2(ρ, h) at every
+// node), and along an arc by its half-angle variable (HalfAngleArc: the MIS
+// and Phong integrals over azimuths and polar angles).
 #pragma once
 
 #include <cmath>
@@ -54,5 +56,56 @@ inline SinCos sin_cos_of_atan2(double y, double x) {
   const double C = c0 + (((x - p) - e) - c0 * dr) / r0;
   return {S, C};
 }
+
+// An arc of angles [lo, hi], 0 < hi − lo ≤ π, in the half-angle variable τ
+// of φ = c + 2·atan τ about its midpoint c: τ ∈ [−τ_max, τ_max] with
+// τ_max = tan((hi − lo)/4) ≤ 1, and cos φ, sin φ rational in τ, so a
+// quadrature over the arc makes no trigonometric call at its nodes (one
+// sincos and one tan per arc instead): with q = 1/(1 + τ²),
+//   cos(φ − c) = (1 − τ)(1 + τ)·q,  sin(φ − c) = 2τ·q,  dφ/dτ = 2q.
+// The map is smooth with dφ/dτ between 1 and 2 on the arc, so an integrand
+// smooth in φ stays smooth in τ. (1 − τ)(1 + τ) keeps cos(φ − c) accurate
+// relative to itself where τ is near 1.
+struct HalfAngleArc {
+  double cos_c = 1, sin_c = 0, tau_max = 0;
+  static HalfAngleArc of(double lo, double hi) {
+    HalfAngleArc arc;
+    const double c = 0.5 * (lo + hi);
+    arc.cos_c = std::cos(c);
+    arc.sin_c = std::sin(c);
+    arc.tau_max = std::tan(0.25 * (hi - lo));
+    return arc;
+  }
+  // cos φ, sin φ and dφ/dτ at τ.
+  void at(double tau, double* cos_phi, double* sin_phi, double* dphi_dtau) const {
+    const double q = 1 / (1 + tau * tau);
+    const double cos_d = (1 - tau) * (1 + tau) * q, sin_d = 2 * tau * q;
+    *cos_phi = cos_c * cos_d - sin_c * sin_d;
+    *sin_phi = sin_c * cos_d + cos_c * sin_d;
+    *dphi_dtau = 2 * q;
+  }
+};
+
+// [lo, hi] (0 ≤ hi − lo ≤ 2π) as at most two HalfAngleArcs of equal width
+// (two where it is wider than π); count 0 for an empty arc.
+struct HalfAngleArcs {
+  HalfAngleArc piece[2];
+  int count = 0;
+  static HalfAngleArcs of(double lo, double hi) {
+    HalfAngleArcs arcs;
+    if (!(hi > lo)) return arcs;
+    if (hi - lo <= kHalfAngleArcMaxWidth) {
+      arcs.piece[0] = HalfAngleArc::of(lo, hi);
+      arcs.count = 1;
+    } else {
+      const double mid = 0.5 * (lo + hi);
+      arcs.piece[0] = HalfAngleArc::of(lo, mid);
+      arcs.piece[1] = HalfAngleArc::of(mid, hi);
+      arcs.count = 2;
+    }
+    return arcs;
+  }
+  static constexpr double kHalfAngleArcMaxWidth = 3.141592653589793;  // π: τ_max ≤ 1
+};
 
 }  // namespace furnace::analytic
