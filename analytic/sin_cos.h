@@ -7,6 +7,8 @@
 
 #include <cmath>
 
+#include "core/vec3.h"
+
 namespace furnace::analytic {
 
 namespace sin_cos_detail {
@@ -105,7 +107,7 @@ struct HalfAngleArcs {
     }
     return arcs;
   }
-  static constexpr double kHalfAngleArcMaxWidth = 3.141592653589793;  // π: τ_max ≤ 1
+  static constexpr double kHalfAngleArcMaxWidth = kPi;  // τ_max ≤ 1
 };
 
 }  // namespace furnace::analytic
