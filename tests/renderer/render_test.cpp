@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
-#include <cstring>
 #include <string>
 #include <vector>
 
@@ -33,17 +32,7 @@ std::vector<Strategy> every_strategy() {
 
 Scene default_scene() { return load_scene(std::string(FURNACE_SCENE_DIR) + "/disk_occluder.json"); }
 
-bool bitwise_equal(const Image& a, const Image& b) {
-  if (a.pixels.size() != b.pixels.size()) return false;
-  for (size_t i = 0; i < a.pixels.size(); ++i) {
-    const PixelMoments &x = a.pixels[i], &y = b.pixels[i];
-    if (x.count != y.count || std::memcmp(&x.mean, &y.mean, sizeof(double)) != 0 ||
-        std::memcmp(&x.m2, &y.m2, sizeof(double)) != 0 || std::memcmp(&x.m3, &y.m3, sizeof(double)) != 0 ||
-        std::memcmp(&x.m4, &y.m4, sizeof(double)) != 0)
-      return false;
-  }
-  return a.rays == b.rays && a.nonfinite_samples == b.nonfinite_samples;
-}
+using testing_support::bitwise_equal;
 
 class EveryStrategy : public testing::TestWithParam<Strategy> {};
 

@@ -10,7 +10,6 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -18,6 +17,7 @@
 #include "core/error.h"
 #include "renderer/lights.h"
 #include "renderer/render.h"
+#include "test_support.h"
 
 namespace furnace {
 namespace {
@@ -25,18 +25,7 @@ namespace {
 constexpr uint64_t kSeed = 0x5ba4ed;
 constexpr int kSpp = 24;  // three packets of eight: full batches through the shared MIS estimator
 
-bool bitwise_equal(const Image& a, const Image& b) {
-  if (a.pixels.size() != b.pixels.size()) return false;
-  for (size_t i = 0; i < a.pixels.size(); ++i) {
-    const PixelMoments &x = a.pixels[i], &y = b.pixels[i];
-    if (x.count != y.count || std::memcmp(&x.mean, &y.mean, sizeof(double)) != 0 ||
-        std::memcmp(&x.m2, &y.m2, sizeof(double)) != 0 || std::memcmp(&x.m3, &y.m3, sizeof(double)) != 0 ||
-        std::memcmp(&x.m4, &y.m4, sizeof(double)) != 0)
-      return false;
-  }
-  return a.rays == b.rays && a.nonfinite_samples == b.nonfinite_samples && a.width == b.width &&
-         a.height == b.height;
-}
+using testing_support::bitwise_equal;
 
 // The built-in scenes MIS can render (a light to sample).
 std::vector<Scene> mis_scenes() {

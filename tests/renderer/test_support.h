@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <string>
 
@@ -11,8 +12,23 @@
 
 #include "core/running_moments.h"
 #include "core/scene.h"
+#include "renderer/image.h"
 
 namespace furnace::testing_support {
+
+// Two images equal to the bit: size, every pixel's count and moments (compared
+// as bytes, so −0 ≠ +0 and NaNs compare by payload), ray and non-finite counts.
+inline bool bitwise_equal(const Image& a, const Image& b) {
+  if (a.width != b.width || a.height != b.height || a.pixels.size() != b.pixels.size()) return false;
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
+    const PixelMoments &x = a.pixels[i], &y = b.pixels[i];
+    if (x.count != y.count || std::memcmp(&x.mean, &y.mean, sizeof(double)) != 0 ||
+        std::memcmp(&x.m2, &y.m2, sizeof(double)) != 0 || std::memcmp(&x.m3, &y.m3, sizeof(double)) != 0 ||
+        std::memcmp(&x.m4, &y.m4, sizeof(double)) != 0)
+      return false;
+  }
+  return a.rays == b.rays && a.nonfinite_samples == b.nonfinite_samples;
+}
 
 // Family-wise false-alarm rate of each statistical check in these tests;
 // every check uses a fixed seed, so the outcome is deterministic anyway.
