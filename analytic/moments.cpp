@@ -414,34 +414,48 @@ V mis_emitter_integrals(const Scene& scene, size_t i, const Vec3& p, const Vec3&
       object.shape);
 }
 
-// The MIS terms of emitter i (unoccluded) per unit radiance: the four of
-// multi-sample MIS (beta 1 or 2) or the one of one-sample MIS (beta 0),
-// integrated together over the same directions.
-MisTerms mis_emitter_terms(const Scene& scene, size_t i, const Vec3& p, const Vec3& n,
-                           std::optional<size_t> receiver, double pmf, int beta) {
+// The MIS terms of emitter i (unoccluded) per unit radiance: the one of
+// one-sample MIS (beta 0), or the four of multi-sample MIS for each of the
+// balance (beta 1) and power (beta 2) heuristics, all eight integrated
+// together over the same directions (index beta − 1).
+MisTerms one_sample_emitter_terms(const Scene& scene, size_t i, const Vec3& p, const Vec3& n,
+                                  std::optional<size_t> receiver, double pmf) {
   MisTerms terms;
-  if (beta == 0) {
-    terms.one_sample2 = mis_emitter_integrals(scene, i, p, n, receiver, pmf, [](double cos_theta, double p_light) {
-                          return one_sample_integrand(cos_theta, p_light);
-                        })[0];
-    return terms;
-  }
-  const MultiSampleValues v =
-      mis_emitter_integrals(scene, i, p, n, receiver, pmf, [beta](double cos_theta, double p_light) {
-        return multi_sample_integrands(cos_theta, p_light, beta);
+  terms.one_sample2 = mis_emitter_integrals(scene, i, p, n, receiver, pmf, [](double cos_theta, double p_light) {
+                        return one_sample_integrand(cos_theta, p_light);
+                      })[0];
+  return terms;
+}
+std::array<MisTerms, 2> multi_sample_emitter_terms(const Scene& scene, size_t i, const Vec3& p, const Vec3& n,
+                                                   std::optional<size_t> receiver, double pmf) {
+  const std::array<double, 8> v =
+      mis_emitter_integrals(scene, i, p, n, receiver, pmf, [](double cos_theta, double p_light) {
+        const MultiSampleValues balance = multi_sample_integrands(cos_theta, p_light, 1);
+        const MultiSampleValues power = multi_sample_integrands(cos_theta, p_light, 2);
+        return std::array<double, 8>{balance[0], balance[1], balance[2], balance[3],
+                                     power[0],   power[1],   power[2],   power[3]};
       });
-  terms.bsdf2 = v[0], terms.light2 = v[1], terms.bsdf1 = v[2], terms.light1 = v[3];
+  std::array<MisTerms, 2> terms;
+  for (size_t b = 0; b < 2; ++b) {
+    terms[b].bsdf2 = v[4 * b], terms[b].light2 = v[4 * b + 1];
+    terms[b].bsdf1 = v[4 * b + 2], terms[b].light1 = v[4 * b + 3];
+  }
   return terms;
 }
 
-// beta = 1 or 2: multi-sample MIS; beta = 0: one-sample MIS. `pmf`: the
+// E[Y²] of MIS: index 0 one-sample MIS, or (multi_sample) index 0 the
+// balance and index 1 the power heuristic's multi-sample MIS. `pmf`: the
 // selection pmf of every light (light_selection_pmf: emitters in object
 // order, then point lights, then the environment).
-double mis_second_moment(const Scene& scene, const Vec3& p, const Vec3& n, std::optional<size_t> receiver, int beta,
-                         const std::vector<double>& pmf) {
-  if (pmf.empty()) return 0.0;
+std::array<double, 2> mis_second_moments(const Scene& scene, const Vec3& p, const Vec3& n,
+                                         std::optional<size_t> receiver, bool multi_sample,
+                                         const std::vector<double>& pmf) {
+  if (pmf.empty()) return {0.0, 0.0};
   const double c = kOneSampleBsdfProbability;
-  double bsdf2 = 0, light2 = 0, bsdf1 = 0, light1 = 0, one_sample2 = 0;
+  const size_t heuristics = multi_sample ? 2 : 0;
+  // Per heuristic (index beta − 1).
+  double bsdf2[2] = {}, light2[2] = {}, bsdf1[2] = {}, light1[2] = {};
+  double one_sample2 = 0;
   size_t light = 0;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const Object& object = scene.objects[i];
@@ -449,18 +463,25 @@ double mis_second_moment(const Scene& scene, const Vec3& p, const Vec3& n, std::
     const double pmf_i = pmf[light++];
     if (receiver && i == *receiver) continue;
     const double le = object.emitted_radiance;
-    const MisTerms t = mis_emitter_terms(scene, i, p, n, receiver, pmf_i, beta);
-    bsdf2 += le * le * t.bsdf2, light2 += le * le * t.light2;
-    bsdf1 += le * t.bsdf1, light1 += le * t.light1;
-    one_sample2 += le * le * t.one_sample2;
+    if (!multi_sample) {
+      one_sample2 += le * le * one_sample_emitter_terms(scene, i, p, n, receiver, pmf_i).one_sample2;
+      continue;
+    }
+    const std::array<MisTerms, 2> t = multi_sample_emitter_terms(scene, i, p, n, receiver, pmf_i);
+    for (size_t b = 0; b < heuristics; ++b) {
+      bsdf2[b] += le * le * t[b].bsdf2, light2[b] += le * le * t[b].light2;
+      bsdf1[b] += le * t[b].bsdf1, light1[b] += le * t[b].light1;
+    }
   }
   // Point lights: only the light sample finds them, with weight 1; chosen with
   // pmf P_l it returns E_l/P_l (multi-sample) or E_l/((1 − c)·P_l) (one-sample).
   for (size_t l = 0; l < scene.point_lights.size(); ++l) {
     const double pmf_l = pmf[light++];
     const double e = point_light_irradiance(scene, l, p, n, receiver);
-    light2 += e * e / pmf_l;
-    light1 += e;
+    for (size_t b = 0; b < heuristics; ++b) {
+      light2[b] += e * e / pmf_l;
+      light1[b] += e;
+    }
     one_sample2 += e * e / ((1 - c) * pmf_l);
   }
   // The open sky: p_l = pmf·cos θ/π = pmf·p_b, so w_b = 1/(1 + pmf^β) and
@@ -470,18 +491,23 @@ double mis_second_moment(const Scene& scene, const Vec3& p, const Vec3& n, std::
   const double pmf_env = pmf.back();
   // One-sample on the open sky: q = (c + (1 − c)·pmf)·cos θ/π, so
   // E[Y²] = L² π P/(c + (1 − c)·pmf) = L π E_env/(c + (1 − c)·pmf).
-  if (beta == 0)
-    return one_sample2 + (e_env > 0 ? scene.environment.radiance * kPi * e_env / (c + (1 - c) * pmf_env) : 0.0);
-  if (e_env > 0) {
-    const double l_env = scene.environment.radiance;
-    const double q = beta == 2 ? pmf_env * pmf_env : pmf_env;
-    const double w_b = 1 / (1 + q), w_l = q / (1 + q);
-    bsdf2 += w_b * w_b * l_env * kPi * e_env;
-    light2 += w_l * w_l * l_env * kPi * e_env / pmf_env;
-    bsdf1 += w_b * e_env;
-    light1 += w_l * e_env;
+  if (!multi_sample)
+    return {one_sample2 + (e_env > 0 ? scene.environment.radiance * kPi * e_env / (c + (1 - c) * pmf_env) : 0.0),
+            0.0};
+  std::array<double, 2> moments{};
+  for (size_t b = 0; b < heuristics; ++b) {
+    if (e_env > 0) {
+      const double l_env = scene.environment.radiance;
+      const double q = b == 1 ? pmf_env * pmf_env : pmf_env;
+      const double w_b = 1 / (1 + q), w_l = q / (1 + q);
+      bsdf2[b] += w_b * w_b * l_env * kPi * e_env;
+      light2[b] += w_l * w_l * l_env * kPi * e_env / pmf_env;
+      bsdf1[b] += w_b * e_env;
+      light1[b] += w_l * e_env;
+    }
+    moments[b] = bsdf2[b] + light2[b] + 2 * bsdf1[b] * light1[b];
   }
-  return bsdf2 + light2 + 2 * bsdf1 * light1;
+  return moments;
 }
 
 }  // namespace
@@ -495,10 +521,12 @@ double second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const
   const Strategy estimator = *model;
   if (estimator == Strategy::kMisBalance || estimator == Strategy::kMisPower ||
       estimator == Strategy::kMisOneSample) {
-    // mis_second_moment models emitters, point lights and a constant sky.
+    // mis_second_moments models emitters, point lights and a constant sky.
     if (scene.environment.map) unsupported_configuration(scene, "MIS under an environment map");
     const int beta = strategy_info(estimator).mis_beta;  // 0: one-sample MIS
-    return mis_second_moment(scene, p, n, receiver, beta, light_selection_pmf(scene, selection));
+    const std::array<double, 2> moments =
+        mis_second_moments(scene, p, n, receiver, beta != 0, light_selection_pmf(scene, selection));
+    return moments[beta == 2 ? 1 : 0];
   }
   // Selection pmf of every light (emitters, point lights, environment), and
   // 1/pmf of the i-th emitter object in object order.
@@ -528,7 +556,7 @@ double second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const
         case Strategy::kMisBalance:
         case Strategy::kMisPower:
         case Strategy::kMisOneSample:
-          return 0;  // mis_second_moment above
+          return 0;  // mis_second_moments above
         case Strategy::kBsdf:
         case Strategy::kPathNaive:
         case Strategy::kPathMis:
@@ -597,7 +625,7 @@ double second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const
       case Strategy::kMisBalance:
       case Strategy::kMisPower:
       case Strategy::kMisOneSample:
-        break;  // mis_second_moment above
+        break;  // mis_second_moments above
       case Strategy::kBsdf:
       case Strategy::kPathNaive:
       case Strategy::kPathMis:
@@ -629,6 +657,38 @@ double pixel_center_second_moment(Strategy strategy, const Scene& scene, int px,
   const double k = object.material.albedo * kInvPi;
   const double e = irradiance(scene, hit->point, n, hit->object_index);
   return le * le + 2 * le * k * e + k * k * second_moment(strategy, scene, hit->point, n, hit->object_index, selection);
+}
+
+std::array<double, 2> multi_sample_mis_second_moments(const Scene& scene, const Vec3& p, const Vec3& n,
+                                                      std::optional<size_t> receiver, LightSelection selection) {
+  // second_moment's checks (variance model, environment map), then the pair it picks from.
+  if (scene.environment.map) unsupported_configuration(scene, "MIS under an environment map");
+  return mis_second_moments(scene, p, n, receiver, true, light_selection_pmf(scene, selection));
+}
+
+std::array<double, 2> pixel_center_multi_sample_mis_second_moments(const Scene& scene, int px, int py,
+                                                                   LightSelection selection) {
+  // pixel_center_second_moment's steps, with the pair in place of one second moment.
+  const Camera::Ray ray = scene.camera.pixel_center_ray(px, py);
+  const std::optional<Hit> hit = intersect(scene, ray.origin, ray.direction);
+  if (!hit) {
+    const double m = std::pow(environment_radiance(scene.environment, ray.direction), 2);
+    return {m, m};
+  }
+  const Object& object = scene.objects[hit->object_index];
+  const double cos_view = dot(ray.direction, hit->normal);
+  const double le = (cos_view < 0 || object.two_sided) ? object.emitted_radiance : 0.0;
+  if (object.material.albedo == 0) return {le * le, le * le};
+  if (object.material.type == BsdfType::kPhong)
+    return {pixel_center_second_moment(Strategy::kMisBalance, scene, px, py, selection),
+            pixel_center_second_moment(Strategy::kMisPower, scene, px, py, selection)};
+  if (object.material.type != BsdfType::kLambertian)
+    unsupported_configuration(scene, "a camera ray hitting the non-Lambertian, non-black object '" + object.name + "'");
+  const Vec3 n = cos_view < 0 ? hit->normal : -hit->normal;
+  const double k = object.material.albedo * kInvPi;
+  const double e = irradiance(scene, hit->point, n, hit->object_index);
+  const std::array<double, 2> m = multi_sample_mis_second_moments(scene, hit->point, n, hit->object_index, selection);
+  return {le * le + 2 * le * k * e + k * k * m[0], le * le + 2 * le * k * e + k * k * m[1]};
 }
 
 }  // namespace furnace::analytic

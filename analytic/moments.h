@@ -15,6 +15,7 @@
 // environment. Elsewhere throws furnace::Error, like irradiance() does.
 #pragma once
 
+#include <array>
 #include <optional>
 
 #include "analytic/point_light.h"
@@ -108,5 +109,19 @@ double second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const
 // a miss sees the environment: E[Y_px²] = L_env² (zero variance).
 double pixel_center_second_moment(Strategy strategy, const Scene& scene, int px, int py,
                                   LightSelection selection = LightSelection::kUniform);
+
+// E[Y²] of mis_balance and mis_power ({balance, power}) from one quadrature:
+// the two heuristics share every direction's densities, so their terms are
+// integrated together (each to its own tolerance). second_moment of either
+// strategy computes this pair and returns its entry, so the values are the
+// same, bit for bit, whichever function asks; the error reported to the open
+// ErrorLedger covers both.
+std::array<double, 2> multi_sample_mis_second_moments(const Scene& scene, const Vec3& p, const Vec3& n,
+                                                      std::optional<size_t> receiver,
+                                                      LightSelection selection = LightSelection::kUniform);
+// pixel_center_second_moment of mis_balance and of mis_power ({balance,
+// power}), equal to the bit to the two calls, at the cost of about one.
+std::array<double, 2> pixel_center_multi_sample_mis_second_moments(const Scene& scene, int px, int py,
+                                                                   LightSelection selection = LightSelection::kUniform);
 
 }  // namespace furnace::analytic

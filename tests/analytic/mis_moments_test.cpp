@@ -3,12 +3,17 @@
 // sample: cone for spheres, uniform in the spherical triangle by rejection
 // from a bounding cap, uniform area points for disks, cosine for the sky),
 // the zero-variance limit of MIS under a lone constant sky, and a negative
-// control (the balance estimator's variance against the power prediction).
+// control (the balance estimator's variance against the power prediction);
+// and the balance and power second moments computed together
+// (pixel_center_multi_sample_mis_second_moments) against each computed alone,
+// to the bit, on the built-in scenes.
 #include "analytic/moments.h"
 
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <limits>
 #include <ostream>
 #include <string>
@@ -248,6 +253,50 @@ TEST(MisMomentLimits, RefusesOccludedLight) {
   Scene scene = scene_of(cases()[0]);
   scene.objects.push_back({"blocker", Sphere{{0.3, -0.2, 1.0}, 0.2}, {}, 0});
   EXPECT_THROW(second_moment(Strategy::kMisBalance, scene, kP, kN, std::nullopt), Error);
+}
+
+// The pair equals pixel_center_second_moment of each strategy to the bit at
+// every 9th pixel of every built-in scene MIS's moments are modelled on, under
+// both light selections (a pixel or scene the model refuses is refused by
+// both forms). Negative control: the two heuristics' moments differ.
+TEST(MultiSampleMisPair, EqualsEachStrategyAloneToTheBit) {
+  int compared = 0, refused = 0, differing_heuristics = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(FURNACE_SCENE_DIR)) {
+    if (entry.path().extension() != ".json") continue;
+    const Scene scene = load_scene(entry.path().string());
+    for (LightSelection selection : {LightSelection::kUniform, LightSelection::kPower})
+      for (int i = 0; i < scene.camera.width_px * scene.camera.height_px; i += 9) {
+        const int px = i % scene.camera.width_px, py = i / scene.camera.width_px;
+        std::array<double, 2> pair{};
+        bool pair_refused = false, alone_refused = false;
+        try {
+          pair = pixel_center_multi_sample_mis_second_moments(scene, px, py, selection);
+        } catch (const Error&) {
+          pair_refused = true;
+        }
+        double balance = 0, power = 0;
+        try {
+          balance = pixel_center_second_moment(Strategy::kMisBalance, scene, px, py, selection);
+          power = pixel_center_second_moment(Strategy::kMisPower, scene, px, py, selection);
+        } catch (const Error&) {
+          alone_refused = true;
+        }
+        ASSERT_EQ(pair_refused, alone_refused) << scene.name << " pixel " << i;
+        if (pair_refused) {
+          ++refused;
+          break;  // refused alike by both: the rest of this scene and selection is skipped
+        }
+        ++compared;
+        EXPECT_EQ(std::memcmp(&pair[0], &balance, sizeof(double)), 0) << scene.name << " pixel " << i;
+        EXPECT_EQ(std::memcmp(&pair[1], &power, sizeof(double)), 0) << scene.name << " pixel " << i;
+        differing_heuristics += pair[0] != pair[1];
+      }
+  }
+  std::printf("balance/power pair vs each alone: %d pixels compared, %d scene-selections refused, %d with "
+              "distinct heuristics' moments\n",
+              compared, refused, differing_heuristics);
+  EXPECT_GT(compared, 1000);
+  EXPECT_GT(differing_heuristics, compared / 4);
 }
 
 }  // namespace
