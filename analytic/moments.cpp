@@ -636,59 +636,77 @@ double second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const
   return moment;
 }
 
-double pixel_center_second_moment(Strategy strategy, const Scene& scene, int px, int py, LightSelection selection) {
+namespace {
+
+// pixel_center_second_moment's steps for N second moments at once:
+// phong(p, n, wo, receiver) gives the N glossy estimators' E[Y²] at a Phong
+// hit, lambertian(p, n, receiver) the N irradiance estimators' at a
+// Lambertian one.
+template <size_t N, class Phong, class Lambertian>
+std::array<double, N> pixel_center_moments(const Scene& scene, int px, int py, Phong phong, Lambertian lambertian) {
+  std::array<double, N> out;
   const Camera::Ray ray = scene.camera.pixel_center_ray(px, py);
   const std::optional<Hit> hit = intersect(scene, ray.origin, ray.direction);
-  if (!hit) return std::pow(environment_radiance(scene.environment, ray.direction), 2);
+  if (!hit) {
+    out.fill(std::pow(environment_radiance(scene.environment, ray.direction), 2));
+    return out;
+  }
   const Object& object = scene.objects[hit->object_index];
   const double cos_view = dot(ray.direction, hit->normal);
   const double le = (cos_view < 0 || object.two_sided) ? object.emitted_radiance : 0.0;
-  if (object.material.albedo == 0) return le * le;
+  if (object.material.albedo == 0) {
+    out.fill(le * le);
+    return out;
+  }
+  const Vec3 n = cos_view < 0 ? hit->normal : -hit->normal;
   if (object.material.type == BsdfType::kPhong) {
     // Y_px = Le + Y with Y the glossy estimator (phong.h), emission constant.
-    const Vec3 n = cos_view < 0 ? hit->normal : -hit->normal;
     const double e = phong_reflected_radiance(scene, hit->point, n, -ray.direction, hit->object_index);
-    return le * le + 2 * le * e +
-           phong_second_moment(strategy, scene, hit->point, n, -ray.direction, hit->object_index, selection);
+    const std::array<double, N> m = phong(hit->point, n, -ray.direction, hit->object_index);
+    for (size_t i = 0; i < N; ++i) out[i] = le * le + 2 * le * e + m[i];
+    return out;
   }
   if (object.material.type != BsdfType::kLambertian)
     unsupported_configuration(scene, "a camera ray hitting the non-Lambertian, non-black object '" + object.name + "'");
-  const Vec3 n = cos_view < 0 ? hit->normal : -hit->normal;
   const double k = object.material.albedo * kInvPi;
   const double e = irradiance(scene, hit->point, n, hit->object_index);
-  return le * le + 2 * le * k * e + k * k * second_moment(strategy, scene, hit->point, n, hit->object_index, selection);
+  const std::array<double, N> m = lambertian(hit->point, n, hit->object_index);
+  for (size_t i = 0; i < N; ++i) out[i] = le * le + 2 * le * k * e + k * k * m[i];
+  return out;
+}
+
+}  // namespace
+
+double pixel_center_second_moment(Strategy strategy, const Scene& scene, int px, int py, LightSelection selection) {
+  return pixel_center_moments<1>(
+      scene, px, py,
+      [&](const Vec3& p, const Vec3& n, const Vec3& wo, size_t receiver) {
+        return std::array<double, 1>{phong_second_moment(strategy, scene, p, n, wo, receiver, selection)};
+      },
+      [&](const Vec3& p, const Vec3& n, size_t receiver) {
+        return std::array<double, 1>{second_moment(strategy, scene, p, n, receiver, selection)};
+      })[0];
 }
 
 std::array<double, 2> multi_sample_mis_second_moments(const Scene& scene, const Vec3& p, const Vec3& n,
                                                       std::optional<size_t> receiver, LightSelection selection) {
-  // second_moment's checks (variance model, environment map), then the pair it picks from.
+  // second_moment's check (the environment map), then the pair it picks from.
   if (scene.environment.map) unsupported_configuration(scene, "MIS under an environment map");
   return mis_second_moments(scene, p, n, receiver, true, light_selection_pmf(scene, selection));
 }
 
 std::array<double, 2> pixel_center_multi_sample_mis_second_moments(const Scene& scene, int px, int py,
                                                                    LightSelection selection) {
-  // pixel_center_second_moment's steps, with the pair in place of one second moment.
-  const Camera::Ray ray = scene.camera.pixel_center_ray(px, py);
-  const std::optional<Hit> hit = intersect(scene, ray.origin, ray.direction);
-  if (!hit) {
-    const double m = std::pow(environment_radiance(scene.environment, ray.direction), 2);
-    return {m, m};
-  }
-  const Object& object = scene.objects[hit->object_index];
-  const double cos_view = dot(ray.direction, hit->normal);
-  const double le = (cos_view < 0 || object.two_sided) ? object.emitted_radiance : 0.0;
-  if (object.material.albedo == 0) return {le * le, le * le};
-  if (object.material.type == BsdfType::kPhong)
-    return {pixel_center_second_moment(Strategy::kMisBalance, scene, px, py, selection),
-            pixel_center_second_moment(Strategy::kMisPower, scene, px, py, selection)};
-  if (object.material.type != BsdfType::kLambertian)
-    unsupported_configuration(scene, "a camera ray hitting the non-Lambertian, non-black object '" + object.name + "'");
-  const Vec3 n = cos_view < 0 ? hit->normal : -hit->normal;
-  const double k = object.material.albedo * kInvPi;
-  const double e = irradiance(scene, hit->point, n, hit->object_index);
-  const std::array<double, 2> m = multi_sample_mis_second_moments(scene, hit->point, n, hit->object_index, selection);
-  return {le * le + 2 * le * k * e + k * k * m[0], le * le + 2 * le * k * e + k * k * m[1]};
+  return pixel_center_moments<2>(
+      scene, px, py,
+      [&](const Vec3& p, const Vec3& n, const Vec3& wo, size_t receiver) {
+        // The glossy estimators have no shared quadrature: one each.
+        return std::array<double, 2>{phong_second_moment(Strategy::kMisBalance, scene, p, n, wo, receiver, selection),
+                                     phong_second_moment(Strategy::kMisPower, scene, p, n, wo, receiver, selection)};
+      },
+      [&](const Vec3& p, const Vec3& n, size_t receiver) {
+        return multi_sample_mis_second_moments(scene, p, n, receiver, selection);
+      });
 }
 
 }  // namespace furnace::analytic

@@ -214,27 +214,39 @@ std::string variance_key(const Case& c) {
                      c.options.light_selection == LightSelection::kPower ? "power" : "uniform");
 }
 
+// Predicted per-pixel variances E[Y²] − E² of N estimators, `second_moments(px,
+// py)` giving their N second moments at a pixel centre; all N empty when
+// analytic/ does not solve this scene's second moments.
+template <size_t N, class SecondMoments>
+std::array<std::vector<double>, N> compute_variances(const Case& c, const Scene& scene,
+                                                     const std::vector<double>& reference,
+                                                     SecondMoments second_moments) {
+  std::array<std::vector<double>, N> variances;
+  try {
+    for (auto& v : variances) v.resize(reference.size());
+    const size_t width = size_t(scene.camera.width_px);
+    for_each_pixel(reference.size(), c.options.threads, [&](size_t i) {
+      const std::array<double, N> m2 = second_moments(int(i % width), int(i / width));
+      const double e2 = reference[i] * reference[i];
+      // An exact estimator (a lone point light) has E[Y²] = E², computed
+      // along two double paths: a difference within round-off is zero.
+      for (size_t k = 0; k < N; ++k) variances[k][i] = m2[k] - e2 <= kPredictedVarianceRoundOff * e2 ? 0.0 : m2[k] - e2;
+    });
+  } catch (const Error&) {
+    for (auto& v : variances) v.clear();  // not modelled for this scene: mean tests only
+  }
+  return variances;
+}
+
 // Predicted per-pixel variances, when the strategy has an analytic model and
 // analytic/ solves this scene's second moments; empty otherwise.
 std::vector<double> compute_predicted_variance(const Case& c, const Scene& scene,
                                                const std::vector<double>& reference) {
-  std::vector<double> predicted_variance;
-  if (!has_variance_model(c.options.strategy)) return predicted_variance;
-  try {
-    predicted_variance.resize(reference.size());
-    const size_t width = size_t(scene.camera.width_px);
-    for_each_pixel(reference.size(), c.options.threads, [&](size_t i) {
-      const double m2 = analytic::pixel_center_second_moment(c.options.strategy, scene, int(i % width),
-                                                             int(i / width), c.options.light_selection);
-      const double e2 = reference[i] * reference[i];
-      // An exact estimator (a lone point light) has E[Y²] = E², computed
-      // along two double paths: a difference within round-off is zero.
-      predicted_variance[i] = m2 - e2 <= kPredictedVarianceRoundOff * e2 ? 0.0 : m2 - e2;
-    });
-  } catch (const Error&) {
-    predicted_variance.clear();  // not modelled for this scene: mean tests only
-  }
-  return predicted_variance;
+  if (!has_variance_model(c.options.strategy)) return {};
+  return std::move(compute_variances<1>(c, scene, reference, [&](int px, int py) {
+    return std::array<double, 1>{
+        analytic::pixel_center_second_moment(c.options.strategy, scene, px, py, c.options.light_selection)};
+  })[0]);
 }
 
 // Whether c's strategy is one of the multi-sample MIS pair whose variances
@@ -248,21 +260,9 @@ bool multi_sample_mis(const Case& c) {
 // equal to the bit to compute_predicted_variance of that strategy.
 std::array<std::vector<double>, 2> compute_multi_sample_mis_variances(const Case& c, const Scene& scene,
                                                                      const std::vector<double>& reference) {
-  std::array<std::vector<double>, 2> variances;
-  try {
-    for (auto& v : variances) v.resize(reference.size());
-    const size_t width = size_t(scene.camera.width_px);
-    for_each_pixel(reference.size(), c.options.threads, [&](size_t i) {
-      const std::array<double, 2> m2 = analytic::pixel_center_multi_sample_mis_second_moments(
-          scene, int(i % width), int(i / width), c.options.light_selection);
-      const double e2 = reference[i] * reference[i];
-      for (size_t b = 0; b < 2; ++b)
-        variances[b][i] = m2[b] - e2 <= kPredictedVarianceRoundOff * e2 ? 0.0 : m2[b] - e2;
-    });
-  } catch (const Error&) {
-    for (auto& v : variances) v.clear();  // not modelled for this scene: mean tests only
-  }
-  return variances;
+  return compute_variances<2>(c, scene, reference, [&](int px, int py) {
+    return analytic::pixel_center_multi_sample_mis_second_moments(scene, px, py, c.options.light_selection);
+  });
 }
 
 }  // namespace
