@@ -5,6 +5,7 @@
 #include <variant>
 
 #include "analytic/occlusion.h"
+#include "analytic/unsupported.h"
 #include "core/error.h"
 
 namespace furnace::analytic {
@@ -23,11 +24,6 @@ std::string point_text(const Vec3& p) {
 }
 
 }  // namespace
-
-void unsupported_configuration(const Scene& scene, const std::string& what) {
-  throw Error("scene '" + scene.name + "' (" + scene.source + "): " + what +
-              " is outside what the analytic references solve exactly.");
-}
 
 std::optional<DiskLightView> disk_light_view(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
                                              std::optional<size_t> receiver, std::string* unsupported_reason) {

@@ -37,8 +37,4 @@ std::optional<DiskLightView> disk_light_view(const Scene& scene, size_t light_in
                                              std::optional<size_t> receiver,
                                              std::string* unsupported_reason = nullptr);
 
-// "<scene name> (<source>): <what> is outside what the analytic references
-// solve exactly." as a furnace::Error.
-[[noreturn]] void unsupported_configuration(const Scene& scene, const std::string& what);
-
 }  // namespace furnace::analytic

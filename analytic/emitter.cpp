@@ -10,6 +10,7 @@
 #include "analytic/planar_light.h"
 #include "analytic/sphere.h"
 #include "analytic/sphere_occluded.h"
+#include "analytic/unsupported.h"
 
 namespace furnace::analytic {
 

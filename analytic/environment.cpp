@@ -11,6 +11,7 @@
 #include "analytic/planar_light.h"
 #include "analytic/polygon.h"
 #include "analytic/sphere.h"
+#include "analytic/unsupported.h"
 
 namespace furnace::analytic {
 

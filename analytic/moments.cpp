@@ -23,6 +23,7 @@
 #include "analytic/sin_cos.h"
 #include "analytic/environment_map.h"
 #include "analytic/reference.h"
+#include "analytic/unsupported.h"
 #include "core/adaptive_quadrature.h"
 #include "core/error.h"
 

@@ -13,6 +13,7 @@
 #include "analytic/occlusion.h"
 #include "analytic/point_light.h"
 #include "analytic/sin_cos.h"
+#include "analytic/unsupported.h"
 #include "core/adaptive_quadrature.h"
 #include "core/error.h"
 

@@ -14,6 +14,7 @@
 #include "analytic/occlusion.h"
 #include "analytic/polygon.h"
 #include "analytic/small_emitter.h"
+#include "analytic/unsupported.h"
 #include "core/adaptive_quadrature.h"
 
 namespace furnace::analytic {

@@ -14,6 +14,7 @@
 #include "analytic/intersect.h"
 #include "analytic/phong.h"
 #include "analytic/point_light.h"
+#include "analytic/unsupported.h"
 #include "core/error.h"
 
 namespace furnace::analytic {

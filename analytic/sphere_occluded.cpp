@@ -14,6 +14,7 @@
 #include "analytic/error_ledger.h"
 #include "analytic/occlusion.h"
 #include "analytic/sphere.h"
+#include "analytic/unsupported.h"
 #include "core/error.h"
 
 namespace furnace::analytic {

@@ -5,6 +5,8 @@
 //  3. numerical runaway on a path -> counted by the integrator, not thrown.
 #pragma once
 
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 
@@ -15,7 +17,12 @@ class Error : public std::runtime_error {
   explicit Error(const std::string& sentence) : std::runtime_error(sentence) {}
 };
 
-[[noreturn]] void check_failed(const char* condition, const char* file, int line);
+// FURNACE_CHECK's failure: prints the condition and where, then aborts.
+// Header-only, so libraries on core/'s numerics alone (stats/) can check too.
+[[noreturn]] inline void check_failed(const char* condition, const char* file, int line) {
+  std::fprintf(stderr, "furnace: internal check failed: %s at %s:%d\n", condition, file, line);
+  std::abort();
+}
 
 }  // namespace furnace
 

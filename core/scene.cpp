@@ -17,11 +17,6 @@
 
 namespace furnace {
 
-void check_failed(const char* condition, const char* file, int line) {
-  std::fprintf(stderr, "furnace: internal check failed: %s at %s:%d\n", condition, file, line);
-  std::abort();
-}
-
 Camera::Ray Camera::pixel_center_ray(int px, int py) const {
   const Vec3 f = normalize(forward);
   const Vec3 right = normalize(cross(f, up));

@@ -17,7 +17,7 @@
 #include "core/error.h"
 #include "core/provenance.h"
 #include "verify/harness.h"
-#include "verify/statistics.h"
+#include "stats/statistics.h"
 
 namespace furnace::verify {
 

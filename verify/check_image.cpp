@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 #include "core/exr.h"
-#include "verify/statistics.h"
+#include "stats/statistics.h"
 
 namespace furnace::verify {
 

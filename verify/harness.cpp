@@ -17,8 +17,8 @@
 #include "analytic/moments.h"
 #include "analytic/reference.h"
 #include "core/error.h"
-#include "verify/pixel_tests.h"
-#include "verify/statistics.h"
+#include "stats/pixel_tests.h"
+#include "stats/statistics.h"
 
 namespace furnace::verify {
 

@@ -37,7 +37,7 @@ int highest_min_calibrated_spp();
 
 
 // Each pixel's mean is tested with Hall's skewness-corrected t statistic
-// against Student's t quantile (stats::pixel_mean_test, verify/pixel_tests.h).
+// against Student's t quantile (stats::pixel_mean_test, stats/pixel_tests.h).
 // A pixel's test is only valid when its sample mean is close to normal:
 // pixels that fail Cochran's rule (N ≥ 25·G1², stats::clt_adequate) are not
 // tested but counted and reported as `px skip`; they still enter the

@@ -9,7 +9,7 @@
 
 #include "core/atomic_file.h"
 #include "core/provenance.h"
-#include "verify/statistics.h"
+#include "stats/statistics.h"
 
 namespace furnace::verify {
 

@@ -16,8 +16,8 @@
 
 #include "analytic/reference.h"
 #include "core/scene.h"
-#include "verify/estimator_tests.h"
-#include "verify/sampler_tests.h"
+#include "stats/estimator_tests.h"
+#include "stats/sampler_tests.h"
 
 namespace {
 

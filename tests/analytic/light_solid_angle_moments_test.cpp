@@ -19,7 +19,7 @@
 #include "core/error.h"
 #include "core/running_moments.h"
 #include "solid_angle_quadrature.h"
-#include "verify/statistics.h"
+#include "stats/statistics.h"
 
 namespace furnace::analytic {
 namespace {

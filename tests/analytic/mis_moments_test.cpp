@@ -24,7 +24,7 @@
 #include "analytic/reference.h"
 #include "core/error.h"
 #include "core/running_moments.h"
-#include "verify/statistics.h"
+#include "stats/statistics.h"
 
 namespace furnace::analytic {
 namespace {

@@ -18,7 +18,7 @@ namespace furnace {
 namespace {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
-constexpr int kDepth = 40;  // the deepest callers go (analytic/, verify/chi2.h)
+constexpr int kDepth = 40;  // the deepest callers go (analytic/, stats/chi2.h)
 
 TEST(AdaptiveGaussKronrod, ExactOnPolynomialsUpToTheRuleDegree) {
   // 31-point Kronrod: degree 3·15 + 1 = 46; ∫_0^1 x^k = 1/(k + 1).

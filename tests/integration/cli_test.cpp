@@ -15,7 +15,7 @@
 #include "tests/command.h"
 #include "core/exr.h"
 #include "verify/harness.h"
-#include "verify/statistics.h"
+#include "stats/statistics.h"
 
 namespace {
 

@@ -23,7 +23,7 @@
 #include "renderer/render.h"
 #include "tests/renderer/strategy_names.h"
 #include "verify/harness.h"
-#include "verify/statistics.h"
+#include "stats/statistics.h"
 
 namespace furnace {
 namespace {

@@ -34,7 +34,7 @@
 #include "tests/renderer/strategy_names.h"
 #include "tests/test_names.h"
 #include "verify/harness.h"
-#include "verify/statistics.h"
+#include "stats/statistics.h"
 
 namespace furnace::verify {
 namespace {

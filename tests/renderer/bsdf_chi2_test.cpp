@@ -29,7 +29,7 @@
 
 #include "renderer/bsdf.h"
 #include "renderer/rng.h"
-#include "verify/chi2.h"
+#include "stats/chi2.h"
 
 namespace furnace::stats {
 namespace {

@@ -11,7 +11,7 @@
 // pdf's discontinuities and the expected count of a cell is exact,
 // N·pdf(cell centre)·Ω_cell (the pdf is constant on a texel). The sub-texel
 // split also tests that samples are uniform in solid angle inside a texel.
-// Cells expected below 5 are pooled (verify/chi2.h); a sample in a cell of
+// Cells expected below 5 are pooled (stats/chi2.h); a sample in a cell of
 // zero expectation (a black texel) fails at once.
 //
 // Budget and levels: kSamples samples per map from the fixed seed kSeed (one
@@ -33,8 +33,8 @@
 #include "core/scene.h"
 #include "renderer/environment_sampler.h"
 #include "renderer/rng.h"
-#include "verify/chi2.h"
-#include "verify/statistics.h"
+#include "stats/chi2.h"
+#include "stats/statistics.h"
 
 namespace furnace {
 namespace {

@@ -19,8 +19,8 @@
 #include "core/scene.h"
 #include "renderer/lights.h"
 #include "renderer/rng.h"
-#include "verify/chi2.h"
-#include "verify/statistics.h"
+#include "stats/chi2.h"
+#include "stats/statistics.h"
 
 namespace furnace {
 namespace {

@@ -25,7 +25,7 @@
 #include "core/scene.h"
 #include "renderer/rng.h"
 #include "renderer/spherical_sampling.h"
-#include "verify/chi2.h"
+#include "stats/chi2.h"
 
 namespace furnace::stats {
 namespace {

@@ -22,7 +22,7 @@
 #include "core/vec3.h"
 #include "renderer/rng.h"
 #include "renderer/sampling.h"
-#include "verify/chi2.h"
+#include "stats/chi2.h"
 
 namespace furnace::stats {
 namespace {

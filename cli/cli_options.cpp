@@ -1,0 +1,165 @@
+#include "cli/cli_options.h"
+
+#include <unistd.h>
+
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <system_error>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "core/error.h"
+
+namespace furnace::cli {
+
+const char* const kExitContract =
+    "Exit codes (every subcommand): 0 pass, 1 fail, 2 bad input (any argument error, scene files, images, output "
+    "paths; one line on stderr), 3 inconclusive (check: no test rejects but the test lacks the stated power).";
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The whole of `text` as a base-10 integer of type T (no sign for unsigned
+// T, no leading '+', no spaces); empty on anything else or out of T's range.
+template <typename T>
+std::optional<T> parse_decimal(const std::string& text) {
+  T value{};
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, value, 10);
+  if (text.empty() || ec != std::errc() || ptr != end) return std::nullopt;
+  return value;
+}
+
+std::string interval_text(double lo, double hi, End low_end, End high_end) {
+  return fmt::format("{}{:g}, {:g}{}", low_end == End::kOpen ? "(" : "[", lo, hi, high_end == End::kOpen ? ")" : "]");
+}
+
+// The nearest existing ancestor of `path` (itself if it exists); empty when
+// none can be examined.
+fs::path nearest_existing(fs::path path) {
+  std::error_code ec;
+  while (!path.empty() && !fs::exists(fs::symlink_status(path, ec)) && path.has_parent_path() &&
+         path.parent_path() != path)
+    path = path.parent_path();
+  return path;
+}
+
+// Empty if `dir` is an existing directory this process can create files in;
+// else the reason, one clause.
+std::string writable_directory_problem(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) return fmt::format("directory '{}' does not exist", dir.string());
+  if (!fs::is_directory(dir, ec)) return fmt::format("'{}' is not a directory", dir.string());
+  if (::access(dir.c_str(), W_OK | X_OK) != 0) return fmt::format("directory '{}' is not writable", dir.string());
+  return "";
+}
+
+}  // namespace
+
+CLI::Validator integer_in(int64_t lo, int64_t hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        const std::optional<int64_t> value = parse_decimal<int64_t>(text);
+        if (!value || *value < lo || *value > hi)
+          return fmt::format("must be a decimal integer in [{}, {}], got '{}'", lo, hi, text);
+        text = std::to_string(*value);  // canonical decimal: CLI11's strtoll reads "010" as octal
+        return "";
+      },
+      fmt::format("[{}, {}]", lo, hi));
+}
+
+CLI::Validator seed_value() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        const std::optional<uint64_t> value = parse_decimal<uint64_t>(text);
+        if (!value)
+          return fmt::format("must be a decimal integer in [0, {}], got '{}'", std::numeric_limits<uint64_t>::max(),
+                             text);
+        text = std::to_string(*value);
+        return "";
+      },
+      "[0, 2^64-1]");
+}
+
+CLI::Validator number_in(double lo, double hi, End low_end, End high_end) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double value = 0;
+        // CLI11's own conversion, so the value checked is the value stored.
+        const bool converted = CLI::detail::lexical_cast(text, value);
+        const bool inside = converted && std::isfinite(value) &&
+                            (low_end == End::kOpen ? value > lo : value >= lo) &&
+                            (high_end == End::kOpen ? value < hi : value <= hi);
+        if (!inside)
+          return fmt::format("must be a finite number in {}, got '{}'", interval_text(lo, hi, low_end, high_end), text);
+        return "";
+      },
+      interval_text(lo, hi, low_end, high_end));
+}
+
+CLI::Validator finite_number() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double value = 0;
+        if (!CLI::detail::lexical_cast(text, value) || !std::isfinite(value))
+          return fmt::format("must be finite numbers, got '{}'", text);
+        return "";
+      },
+      "FINITE");
+}
+
+CLI::Validator output_file(bool stdout_dash) {
+  return CLI::Validator(
+      [stdout_dash](std::string& text) -> std::string {
+        if (stdout_dash && text == "-") return "";
+        if (text.empty()) return "the output file name is empty";
+        const fs::path path(text);
+        std::error_code ec;
+        if (fs::is_directory(path, ec)) return fmt::format("'{}' is a directory, not a file", text);
+        const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+        const std::string problem = writable_directory_problem(dir);
+        if (!problem.empty()) return fmt::format("cannot write '{}': {}", text, problem);
+        return "";
+      },
+      "FILE");
+}
+
+CLI::Validator output_directory() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        if (text.empty()) return "the output directory name is empty";
+        const fs::path existing = nearest_existing(fs::path(text));
+        const std::string problem = writable_directory_problem(existing.empty() ? fs::path(".") : existing);
+        if (!problem.empty()) return fmt::format("cannot create or write '{}': {}", text, problem);
+        return "";
+      },
+      "DIR");
+}
+
+void create_output_directory(const std::string& dir, const std::string& option) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir))
+    throw Error(fmt::format("option {}: cannot create the directory '{}' ({}).", option, dir,
+                            ec ? ec.message() : "a file of that name exists"));
+}
+
+std::string parse_error_message(const CLI::App& app, const CLI::Error& e) {
+  std::string message = e.what();
+  if (dynamic_cast<const CLI::RequiredError*>(&e) && app.get_subcommands().empty()) {
+    std::vector<std::string> names;
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) names.push_back(sub->get_name());
+    const std::vector<std::string> rest = app.remaining();
+    message = rest.empty() ? fmt::format("a subcommand is required, one of: {}", fmt::join(names, ", "))
+                           : fmt::format("unknown subcommand '{}'; the subcommands are: {}", rest.front(),
+                                         fmt::join(names, ", "));
+  }
+  return message + " (run with --help for more information)";
+}
+
+}  // namespace furnace::cli

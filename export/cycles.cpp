@@ -1,0 +1,653 @@
+// Blender Cycles export. The facts it relies on, each measured with Blender
+// 3.4.1 from Debian 12 (K = 16 renders of 128 spp checked by `furnace check`
+// unless stated; tests/export/cycles_peer_test.cpp repeats the scene
+// and control measurements):
+//
+// | fact | how it was measured |
+// |---|---|
+// | ORTHO camera, ortho_scale = the image plane's width with sensor_fit HORIZONTAL (its height with VERTICAL when taller in pixel-aspect units), pixel aspect = furnace's pixel width : height | every exportable scene passes, among them grazing_emitters (pixel aspect 1 : 12.5, VERTICAL) and enclosure_sphere (tilted camera) |
+// | a Blackman-Harris filter of width 0.01 px keeps samples within 0.01 px of the pixel centre; a Box filter covers the whole pixel whatever its width | a half-plane emitter at distance d from a pixel centre, 4096 spp: lit fraction 36 % at d = 0.001 px, 1.3 % at 0.006, 0.07 % at 0.008, 0 from 0.01 to 10 px; Box of width 0.01: 0.5 − d (49 % at 0.01, 20 % at 0.3, 0 from 0.5); Blender's default 1.5 px filter fails mirror_disk (worst pixel abs t 166) |
+// | view transform Standard, look None, exposure 0, gamma 1, 32-bit float EXR (ZIP): R = G = B = linear radiance | the scenes pass; the +1 % emission control fails (image-mean t 67) |
+// | the Emission shader of strength Le, colour 1, is radiance Le; the Background shader of strength L is radiance L | same |
+// | max_bounces B traces B + 2 path segments; roulette stays unbiased | enclosure_box_rho5 at B = 2 passes the 4-segment reference (t −0.78) and fails the 3- and 5-segment ones (t 1032, −517); the enclosures pass at B = 1024 |
+// | emission is two-sided in 3.4; mixing the Emission shader with nothing by Geometry Backfacing makes it one-sided | back_facing_emitters passes; exported two-sided it is 87 % too bright (t 5748) |
+// | Diffuse BSDF colour ρ, roughness 0, is Lambertian ρ; Glossy BSDF SHARP colour ρ is an ideal mirror of reflectance ρ | the scenes pass; mirror_disk passes (detectable bias 0.006 %) |
+// | mesh triangles face cross(v1 − v0, v2 − v0), as furnace's | back_facing_emitters and the one-sided lights pass |
+// | Sobol-Burley (SOBOL) with distinct seeds gives independent renders; the same seed gives the same pixels in one Blender process or several, on 1 or 2 threads | renders compared pixel by pixel (max difference 0 for the same seed, 2e-3 between seeds) |
+// | the default clamp is 10 for indirect light, adaptive sampling and denoising are on, the light threshold is 0.01: all switched off | Blender's factory settings (bl_rna defaults) |
+// | Cycles 3.4 has no emission-side setting, no light tree, path guiding off by default | Blender's Python API (bpy.types.CyclesRenderSettings) |
+// | the default pattern, progressive multi-jitter, also gives seed-dependent renders (disk_occluder passes with it: t 1.10, detectable 0.12 %); Sobol-Burley is kept for its documented Owen scrambling | rendered |
+#include "export/cycles.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <variant>
+
+#include <fmt/format.h>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/overloaded.h"
+#include "export/pbrt_v4.h"
+
+namespace furnace::exporter {
+
+namespace {
+
+// Shortest round-trip decimal (Python reads it back exactly); +0.0 writes -0 as 0.
+std::string num(double x) { return fmt::format("{}", x + 0.0); }
+std::string tuple(const Vec3& p) { return fmt::format("({}, {}, {})", num(p.x), num(p.y), num(p.z)); }
+// A Python string literal holding `text` (repr-style escapes).
+std::string python_string(const std::string& text) {
+  std::string out = "'";
+  for (unsigned char c : text) {
+    if (c == '\\' || c == '\'') out += '\\', out += char(c);
+    else if (c < 0x20 || c == 0x7f) out += fmt::format("\\x{:02x}", c);
+    else out += char(c);
+  }
+  return out + "'";
+}
+// A name on one comment line: a line break in it would end the comment.
+std::string comment_text(std::string name) {
+  std::replace(name.begin(), name.end(), '\n', ' ');
+  std::replace(name.begin(), name.end(), '\r', ' ');
+  return name;
+}
+
+// Blender's property limits (bl_rna hard_min / hard_max, Blender 3.4.1).
+constexpr int kCyclesMaxSpp = 16777216;
+constexpr int64_t kCyclesMaxSeed = 2147483647;
+constexpr double kBlenderMaxPixelAspect = 200;
+constexpr double kBlenderMinClipStart = 1e-6;
+// The camera sits clip_start behind furnace's image plane along forward, so
+// its rays start on the plane: the smallest clip_start Blender takes, scaled
+// with the camera's coordinates so that float keeps it (2^-20 relative).
+double clip_start(const Camera& c) {
+  const double scale = std::max({std::fabs(c.center.x), std::fabs(c.center.y), std::fabs(c.center.z), c.width,
+                                 c.height, 1.0});
+  return std::max(kBlenderMinClipStart, 0x1p-20 * scale);
+}
+// Far enough for any scene within scene_limits (coordinates up to 1e6).
+constexpr double kClipEnd = 1e10;
+// Bounds of the tessellation options: 20·4^7 = 327 680 triangles per sphere,
+// 2·256² = 131 072 per emitting rectangle keep the script below ~20 MB.
+constexpr int kMaxSphereSubdivisions = 7;
+constexpr int kMaxEmitterGrid = 256;
+// Blackman-Harris at Blender's smallest width: samples within 0.01 px of the
+// pixel centre (Cycles widens a Box filter to 1 px whatever its width).
+constexpr const char* kFilterType = "BLACKMAN_HARRIS";
+constexpr double kFilterWidth = 0.01;
+
+bool reflects(const Object& o) { return o.material.albedo > 0; }
+
+double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5 * length(cross(b - a, c - a)); }
+
+void finish_area(CyclesMesh& mesh) {
+  mesh.mesh_area = 0;
+  for (const auto& t : mesh.triangles)
+    mesh.mesh_area += triangle_area(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
+}
+
+// Triangles of the parallelogram corner + s·u + t·v, cut into grid² cells.
+CyclesMesh parallelogram(const Vec3& corner, const Vec3& u, const Vec3& v, int grid) {
+  CyclesMesh mesh;
+  for (int j = 0; j <= grid; ++j)
+    for (int i = 0; i <= grid; ++i) mesh.vertices.push_back(corner + u * (double(i) / grid) + v * (double(j) / grid));
+  auto index = [grid](int i, int j) { return j * (grid + 1) + i; };
+  for (int j = 0; j < grid; ++j)
+    for (int i = 0; i < grid; ++i) {
+      // cross(u, v) orientation: (i,j) → (i+1,j) → (i+1,j+1) and (i,j) → (i+1,j+1) → (i,j+1).
+      mesh.triangles.push_back({index(i, j), index(i + 1, j), index(i + 1, j + 1)});
+      mesh.triangles.push_back({index(i, j), index(i + 1, j + 1), index(i, j + 1)});
+    }
+  return mesh;
+}
+
+// The triangle p0 p1 p2 cut into grid² congruent triangles (each edge in grid parts).
+CyclesMesh triangle_grid(const Triangle& tri, int grid) {
+  CyclesMesh mesh;
+  const Vec3 e1 = tri.p1 - tri.p0, e2 = tri.p2 - tri.p0;
+  std::map<std::pair<int, int>, int> index;
+  for (int j = 0; j <= grid; ++j)
+    for (int i = 0; i + j <= grid; ++i) {
+      index[{i, j}] = int(mesh.vertices.size());
+      mesh.vertices.push_back(tri.p0 + e1 * (double(i) / grid) + e2 * (double(j) / grid));
+    }
+  for (int j = 0; j < grid; ++j)
+    for (int i = 0; i + j < grid; ++i) {
+      mesh.triangles.push_back({index[{i, j}], index[{i + 1, j}], index[{i, j + 1}]});
+      if (i + j + 1 < grid) mesh.triangles.push_back({index[{i + 1, j}], index[{i + 1, j + 1}], index[{i, j + 1}]});
+    }
+  return mesh;
+}
+
+// A regular N-gon of the disk's area, fanned from the centre: circumradius
+// R' = R·sqrt(2π / (N·sin(2π/N))). Its vertices lie R' − R outside the
+// circle and its edge midpoints R − R'·cos(π/N) inside.
+CyclesMesh disk_mesh(const Disk& d) {
+  constexpr int n = kCyclesDiskVertices;
+  CyclesMesh mesh;
+  const double step = 2 * kPi / n;
+  const double circumradius = d.radius * std::sqrt(2 * kPi / (n * std::sin(step)));
+  const Frame f = Frame::from_normal(normalize(d.normal));
+  FURNACE_CHECK(dot(cross(f.s, f.t), f.n) > 0);  // right-handed: the fan faces the disk's normal
+  mesh.vertices.push_back(d.center);
+  for (int k = 0; k < n; ++k)
+    mesh.vertices.push_back(d.center + f.s * (circumradius * std::cos(k * step)) +
+                            f.t * (circumradius * std::sin(k * step)));
+  for (int k = 0; k < n; ++k) mesh.triangles.push_back({0, 1 + k, 1 + (k + 1) % n});
+  mesh.construction = fmt::format("regular {}-gon of the disk's area, R' = R*sqrt(2*pi/(N*sin(2*pi/N))), "
+                                  "{} triangles fanned from the centre",
+                                  n, n);
+  mesh.exact_area = d.area();
+  mesh.max_distance_outside = circumradius - d.radius;
+  mesh.max_distance_inside = d.radius - circumradius * std::cos(step / 2);
+  return mesh;
+}
+
+// An icosahedron subdivided `levels` times (each triangle into four), its
+// vertices on a sphere of radius R' chosen so that the polyhedron's area is
+// the sphere's 4πR². Vertices lie R' − R outside the sphere; the face point
+// nearest the centre, the foot of the perpendicular (inside every face of
+// this acute mesh, checked), lies R − min_face_distance inside.
+CyclesMesh sphere_mesh(const Sphere& sp, int subdivisions) {
+  const double g = (1 + std::sqrt(5.0)) / 2;
+  std::vector<Vec3> unit = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
+                            {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+  for (Vec3& v : unit) v = normalize(v);
+  std::vector<std::array<int, 3>> faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                           {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                           {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                           {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (int level = 0; level < subdivisions; ++level) {
+    std::map<std::pair<int, int>, int> midpoint;
+    auto middle = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      const auto found = midpoint.find(key);
+      if (found != midpoint.end()) return found->second;
+      unit.push_back(normalize(unit[a] + unit[b]));
+      return midpoint[key] = int(unit.size()) - 1;
+    };
+    std::vector<std::array<int, 3>> finer;
+    for (const auto& f : faces) {
+      const int ab = middle(f[0], f[1]), bc = middle(f[1], f[2]), ca = middle(f[2], f[0]);
+      finer.push_back({f[0], ab, ca});
+      finer.push_back({f[1], bc, ab});
+      finer.push_back({f[2], ca, bc});
+      finer.push_back({ab, bc, ca});
+    }
+    faces = std::move(finer);
+  }
+  double unit_area = 0;
+  for (const auto& f : faces) unit_area += triangle_area(unit[f[0]], unit[f[1]], unit[f[2]]);
+  const double circumradius = sp.radius * std::sqrt(4 * kPi / unit_area);
+  CyclesMesh mesh;
+  double min_face_distance = circumradius;
+  for (const Vec3& v : unit) mesh.vertices.push_back(sp.center + v * circumradius);
+  for (auto f : faces) {
+    const Vec3 a = unit[f[0]], b = unit[f[1]], c = unit[f[2]];
+    Vec3 n = cross(b - a, c - a);
+    if (dot(n, a + b + c) < 0) std::swap(f[1], f[2]), n = -n;  // face outward
+    n = normalize(n);
+    // The foot of the perpendicular from the centre, in barycentric terms, must be inside the face.
+    const Vec3 foot = n * dot(n, a);
+    const double total = length(cross(b - a, c - a));
+    const double wa = dot(cross(b - foot, c - foot), n) / total, wb = dot(cross(c - foot, a - foot), n) / total;
+    FURNACE_CHECK(wa > 0 && wb > 0 && wa + wb < 1);
+    min_face_distance = std::min(min_face_distance, circumradius * dot(n, a));
+    mesh.triangles.push_back(f);
+  }
+  mesh.construction = fmt::format("icosahedron subdivided {} times ({} triangles, {} vertices), vertices at the "
+                                  "radius R' that gives it the sphere's area",
+                                  subdivisions, faces.size(), unit.size());
+  mesh.exact_area = sp.area();
+  mesh.max_distance_outside = circumradius - sp.radius;
+  mesh.max_distance_inside = sp.radius - min_face_distance;
+  return mesh;
+}
+
+// The reason Cycles (as exported here) cannot express `scene`, without the scene's name.
+std::optional<std::string> refusal_reason(const Scene& scene) {
+  if (scene.environment.map)
+    return fmt::format("its environment map '{}' would need Cycles' equirectangular lookup (orientation, texel "
+                       "centres, interpolation) matched to furnace's nearest-texel z-up map, which this export has "
+                       "not measured",
+                       scene.environment.map_file);
+  if (!scene.point_lights.empty())
+    return fmt::format("its point light '{}' would need Blender's watts-to-intensity convention for point lamps, "
+                       "which this export has not measured",
+                       scene.point_lights.front().name);
+  for (const Object& o : scene.objects) {
+    if (!reflects(o)) continue;
+    if (o.material.type == BsdfType::kPhong)
+      return fmt::format("the object '{}' has a normalised Phong BSDF, which Cycles does not have", o.name);
+    if (o.material.type == BsdfType::kMirror && !is_planar(o.shape))
+      return fmt::format("the mirror '{}' is a sphere, which Cycles would render as a faceted polyhedron whose "
+                         "flat facets reflect along other directions than the sphere",
+                         o.name);
+  }
+  return std::nullopt;
+}
+
+std::string error_lines(const Object& o, const CyclesMesh& mesh) {
+  if (mesh.exact)
+    return fmt::format("#   {}: {}; exact (the triangles are the shape).\n", comment_text(o.name), mesh.construction);
+  const double size = std::visit(
+      overloaded{[](const Disk& d) { return d.radius; }, [](const Sphere& s) { return s.radius; },
+                 [](const Rectangle&) { return 1.0; }, [](const Triangle&) { return 1.0; }},
+      o.shape);
+  return fmt::format(
+      "#   {}:\n"
+      "#     {}.\n"
+      "#     area: exact {:.17g}, triangles summed in double {:.17g}\n"
+      "#     (relative difference {:.3g}: equal by construction, the difference is round-off);\n"
+      "#     farthest mesh point outside the exact surface {:.3g} ({:.3g} R),\n"
+      "#     farthest exact-surface point not covered {:.3g} ({:.3g} R).\n",
+      comment_text(o.name), mesh.construction, mesh.exact_area, mesh.mesh_area,
+      (mesh.mesh_area - mesh.exact_area) / mesh.exact_area, mesh.max_distance_outside,
+      mesh.max_distance_outside / size, mesh.max_distance_inside, mesh.max_distance_inside / size);
+}
+
+std::string header(const Scene& scene, const CyclesOptions& options, const std::vector<CyclesMesh>& meshes) {
+  const int check_depth = direct_lighting_is_complete(scene) ? 2 : options.max_segments;
+  const std::string depth_words = options.max_segments == kUnlimitedDepth
+                                      ? fmt::format("unlimited depth (max_bounces {}: a path of more segments carries\n# "
+                                                    "a fraction rho^{} of the light, nothing at these albedos)",
+                                                    kCyclesMaxBounces, kCyclesMaxBounces + 2)
+                                      : fmt::format("{} path segments", options.max_segments);
+  std::string text = fmt::format(
+      "# Scene '{}' ({}) exported by `furnace export --format cycles` for Blender 3.4 Cycles\n"
+      "# (facts measured with Blender 3.4.1 from Debian 12). Render K >= 2 times with distinct seeds in one\n"
+      "# Blender process, then test the images against the exact reference:\n"
+      "#   blender -b --factory-startup --python-exit-code 1 --python this.py -- --seeds 1-16 --output render_{{seed}}.exr\n"
+      "#   furnace check --scene {} --max-depth {} --image render_1.exr --image render_2.exr ...\n"
+      "# (one image: -- --seed S --output image.exr; also --spp N, --threads T). Exit 0 when every image is\n"
+      "# written, 2 on bad arguments, 1 when Blender fails. Cycles' answer is furnace's global illumination at\n"
+      "# {}{}.\n"
+      "# Facts this script relies on (Blender 3.4.1), each with how it was measured:\n"
+      "# - Camera ORTHO, ortho_scale = the image plane's width with sensor_fit HORIZONTAL (its height with\n"
+      "#   VERTICAL when taller), resolution percentage 100, pixel aspect = furnace's pixel width : height.\n"
+      "#   The camera sits clip_start behind furnace's image plane, so its rays start on that plane.\n"
+      "#   Measured: every exportable built-in scene passes, grazing_emitters (pixel aspect 1 : 12.5) included.\n"
+      "# - Pixel centres: Cycles' Box filter is always 1 px wide whatever its width, so samples spread over the\n"
+      "#   pixel; a Blackman-Harris filter of width 0.01 px keeps every sample within 0.01 px of the centre.\n"
+      "#   Measured: an emitter edge d px from a pixel centre got 0.5 - d of 4096 Box samples, and of the\n"
+      "#   Blackman-Harris ones 0.07 % at d = 0.008 and none from 0.01 to 10 px; the default 1.5 px filter fails.\n"
+      "# - Film: view transform Standard, look None, exposure 0, gamma 1, Cycles film exposure 1: the 32-bit\n"
+      "#   float EXR is linear radiance (R = G = B; furnace check reads their mean). Measured: the scenes pass\n"
+      "#   and a light 1 % too bright fails (image-mean t 67).\n"
+      "# - CPU, fixed seed (scene.cycles.seed, not animated), adaptive sampling off, denoising off, no clamping\n"
+      "#   (the default indirect clamp is 10), light threshold 0, filter glossy 0, caustics allowed (suppressing\n"
+      "#   them would drop light furnace's reference counts), path guiding off. Read from Blender's defaults.\n"
+      "# - Sampling pattern Sobol-Burley (identifier SOBOL), Owen-scrambled by the seed: distinct seeds give\n"
+      "#   independent renders, the same seed the same pixels (compared: alone or in a batch, on 1 or 2\n"
+      "#   threads). Cycles 3.4's default, progressive multi-jitter, also gave seed-dependent renders that\n"
+      "#   pass disk_occluder; Sobol-Burley is kept for its documented scrambling. QMC makes some pixels take\n"
+      "#   few distinct values over the renders; furnace check reports such pixels as untested.\n"
+      "# - max_bounces B traces B + 2 path segments (the camera's included), diffuse and glossy bounces the\n"
+      "#   same: here {}{}.\n"
+      "#   Russian roulette stays unbiased. Measured: enclosure_box_rho5 at B = 2\n"
+      "#   passes the 4-segment reference and fails the 3- and 5-segment ones; the enclosures pass at 1024.\n"
+      "# - Emission: the Emission shader of strength Le (colour 1) gives radiance Le. It emits on both sides in\n"
+      "#   Blender 3.4; a one-sided emitter mixes it with nothing by the Geometry node's Backfacing output.\n"
+      "#   Measured: back_facing_emitters passes; exported two-sided it is 87 % too bright.\n"
+      "# - Diffuse BSDF of colour rho, roughness 0, is Lambertian rho; Glossy BSDF SHARP of colour rho is an\n"
+      "#   ideal mirror of reflectance rho at every angle; the Background shader of strength L is radiance L.\n"
+      "#   Measured: the scenes pass, mirror_disk and environment_blocker among them.\n"
+      "# - Triangles face cross(v1 - v0, v2 - v0), furnace's front; flat shading (the geometric normal).\n"
+      "# - Debian's Blender links the same libembree3 and libOpenEXR as furnace (ldd): a bug in those libraries\n"
+      "#   would affect both.\n"
+      "# - Cycles 3.4 defects furnace found (docs/checking_cycles.md): a large triangle light renders too dark\n"
+      "#   (hence the emitter grid), a sphere light of many triangles too dark, blockers within about 1e-4 of\n"
+      "#   the scene's size from a surface let light through, and rare camera samples cross curved silhouettes.\n"
+      "# Tessellation (Cycles renders triangles; each shape's error below is computed from its construction):\n",
+      comment_text(scene.name), comment_text(scene.source), comment_text(scene.source), depth_name(check_depth),
+      depth_words,
+      check_depth == 2 && options.max_segments != 2
+          ? ",\n# which is direct lighting here: light reaches the eye after at most one bounce, off the only reflector"
+          : "",
+      cycles_max_bounces(options.max_segments),
+      options.max_segments == kUnlimitedDepth ? std::string(" for unlimited depth (Blender's largest)") : std::string());
+  for (size_t i = 0; i < scene.objects.size(); ++i) text += error_lines(scene.objects[i], meshes[i]);
+  return text;
+}
+
+// The Python that builds the scene from SCENE (written above it) and renders.
+constexpr const char* kBuilder = R"PY(
+import argparse
+import os
+import sys
+import time
+
+import bpy
+from mathutils import Matrix
+
+
+def arguments():
+    argv = sys.argv[sys.argv.index('--') + 1:] if '--' in sys.argv else []
+    parser = argparse.ArgumentParser(
+        prog='blender -b --factory-startup --python-exit-code 1 --python SCRIPT --',
+        description='Render scene ' + SCENE['name'] + ' with Cycles for furnace check.')
+    seeds = parser.add_mutually_exclusive_group(required=True)
+    seeds.add_argument('--seed', type=int, help='one render with this seed')
+    seeds.add_argument('--seeds', help='A-B: one render per seed A..B (inclusive) in this Blender process')
+    parser.add_argument('--output', required=True, help='EXR path; with --seeds it must contain {seed}')
+    parser.add_argument('--spp', type=int, default=SCENE['spp'], help='samples per pixel')
+    parser.add_argument('--threads', type=int, default=0, help='Cycles threads (0: all cores)')
+    args = parser.parse_args(argv)
+    if args.seed is not None:
+        seeds = [args.seed]
+    else:
+        parts = args.seeds.split('-')
+        if len(parts) != 2 or not all(p.isdigit() for p in parts) or int(parts[0]) > int(parts[1]):
+            parser.error('--seeds must be A-B with integers 0 <= A <= B, got %r' % args.seeds)
+        seeds = list(range(int(parts[0]), int(parts[1]) + 1))
+        if '{seed}' not in args.output:
+            parser.error('--output must contain {seed} when --seeds names several renders, got %r' % args.output)
+    for s in seeds:
+        if not 0 <= s <= SEED_MAX:
+            parser.error('seed %d is outside Cycles\' range 0..%d' % (s, SEED_MAX))
+    if not 1 <= args.spp <= SPP_MAX:
+        parser.error('--spp must be in 1..%d, got %d' % (SPP_MAX, args.spp))
+    if not 0 <= args.threads <= 1024:
+        parser.error('--threads must be in 0..1024, got %d' % args.threads)
+    directory = os.path.dirname(os.path.abspath(args.output))
+    if not os.path.isdir(directory) or not os.access(directory, os.W_OK):
+        parser.error('--output %r: the directory %r does not exist or is not writable' % (args.output, directory))
+    return seeds, args.output, args.spp, args.threads
+
+
+def clear_file():
+    for collection in (bpy.data.objects, bpy.data.meshes, bpy.data.cameras, bpy.data.lights,
+                       bpy.data.materials, bpy.data.worlds):
+        for item in list(collection):
+            collection.remove(item)
+
+
+def material(o):
+    m = bpy.data.materials.new(o['name'])
+    m.use_nodes = True
+    nodes, links = m.node_tree.nodes, m.node_tree.links
+    nodes.clear()
+    output = nodes.new('ShaderNodeOutputMaterial')
+    output.target = 'CYCLES'
+    rho = o['albedo']
+    surface = None
+    if rho > 0 or o['emission'] == 0:
+        if o['mirror']:
+            bsdf = nodes.new('ShaderNodeBsdfGlossy')
+            bsdf.distribution = 'SHARP'
+        else:
+            bsdf = nodes.new('ShaderNodeBsdfDiffuse')
+            bsdf.inputs['Roughness'].default_value = 0.0
+        bsdf.inputs['Color'].default_value = (rho, rho, rho, 1.0)
+        surface = bsdf.outputs[0]
+    if o['emission'] > 0:
+        emission = nodes.new('ShaderNodeEmission')
+        emission.inputs['Color'].default_value = (1.0, 1.0, 1.0, 1.0)
+        emission.inputs['Strength'].default_value = o['emission']
+        emitted = emission.outputs[0]
+        if not o['two_sided']:
+            geometry = nodes.new('ShaderNodeNewGeometry')
+            front_only = nodes.new('ShaderNodeMixShader')
+            links.new(geometry.outputs['Backfacing'], front_only.inputs['Fac'])
+            links.new(emitted, front_only.inputs[1])  # input 2 (back faces) stays empty: no emission
+            emitted = front_only.outputs[0]
+        if surface is None:
+            surface = emitted
+        else:
+            both = nodes.new('ShaderNodeAddShader')
+            links.new(surface, both.inputs[0])
+            links.new(emitted, both.inputs[1])
+            surface = both.outputs[0]
+    links.new(surface, output.inputs['Surface'])
+    return m
+
+
+def build(spp, threads):
+    clear_file()
+    scene = bpy.context.scene
+    for o in SCENE['objects']:
+        mesh = bpy.data.meshes.new(o['name'])
+        mesh.from_pydata(o['vertices'], [], o['triangles'])
+        mesh.update()
+        mesh.materials.append(material(o))
+        scene.collection.objects.link(bpy.data.objects.new(o['name'], mesh))
+
+    world = bpy.data.worlds.new('environment')
+    world.use_nodes = True
+    background = world.node_tree.nodes['Background']
+    background.inputs['Color'].default_value = (1.0, 1.0, 1.0, 1.0)
+    background.inputs['Strength'].default_value = SCENE['environment']
+    scene.world = world
+
+    c = SCENE['camera']
+    camera = bpy.data.cameras.new('camera')
+    camera.type = 'ORTHO'
+    camera.ortho_scale = c['ortho_scale']
+    camera.sensor_fit = c['sensor_fit']
+    camera.clip_start = c['clip_start']
+    camera.clip_end = c['clip_end']
+    camera_object = bpy.data.objects.new('camera', camera)
+    camera_object.matrix_world = Matrix(c['matrix'])
+    scene.collection.objects.link(camera_object)
+    scene.camera = camera_object
+
+    r = scene.render
+    r.engine = 'CYCLES'
+    r.resolution_x, r.resolution_y = SCENE['resolution']
+    r.resolution_percentage = 100
+    r.pixel_aspect_x, r.pixel_aspect_y = SCENE['pixel_aspect']
+    r.use_border = False
+    r.film_transparent = False
+    r.use_compositing = False
+    r.use_sequencer = False
+    r.dither_intensity = 0.0
+    r.use_persistent_data = True
+    r.threads_mode = 'FIXED' if threads > 0 else 'AUTO'
+    if threads > 0:
+        r.threads = threads
+    r.use_file_extension = False
+    image = r.image_settings
+    image.file_format = 'OPEN_EXR'
+    image.color_mode = 'RGB'
+    image.color_depth = '32'
+    image.exr_codec = 'ZIP'
+    image.use_preview = False
+    view = scene.view_settings
+    view.view_transform = 'Standard'
+    view.look = 'None'
+    view.exposure = 0.0
+    view.gamma = 1.0
+    view.use_curve_mapping = False
+
+    cy = scene.cycles
+    cy.device = 'CPU'
+    cy.samples = spp
+    cy.use_adaptive_sampling = False
+    cy.use_denoising = False
+    cy.time_limit = 0.0
+    cy.sampling_pattern = 'SOBOL'
+    cy.scrambling_distance = 1.0
+    cy.auto_scrambling_distance = False
+    cy.use_animated_seed = False
+    cy.sample_offset = 0
+    cy.sample_clamp_direct = 0.0
+    cy.sample_clamp_indirect = 0.0
+    cy.light_sampling_threshold = 0.0
+    cy.caustics_reflective = True
+    cy.caustics_refractive = True
+    cy.blur_glossy = 0.0
+    cy.use_guiding = False
+    cy.use_fast_gi = False
+    cy.use_camera_cull = False
+    cy.use_distance_cull = False
+    cy.direct_light_sampling_type = 'MULTIPLE_IMPORTANCE_SAMPLING'
+    bounces = SCENE['max_bounces']
+    cy.max_bounces = bounces
+    cy.diffuse_bounces = bounces
+    cy.glossy_bounces = bounces
+    cy.transmission_bounces = bounces
+    cy.transparent_max_bounces = bounces
+    cy.volume_bounces = 0
+    cy.min_light_bounces = 0
+    cy.min_transparent_bounces = 0
+    cy.pixel_filter_type = FILTER[0]
+    cy.filter_width = FILTER[1]
+    cy.film_exposure = 1.0
+    for layer in scene.view_layers:
+        layer.samples = 0
+        layer.cycles.denoising_store_passes = False
+    return scene
+
+
+def render(scene, seed, path):
+    scene.cycles.seed = seed
+    temporary = os.path.join(os.path.dirname(os.path.abspath(path)), '.' + os.path.basename(path) + '.tmp.exr')
+    scene.render.filepath = temporary
+    start = time.time()
+    bpy.ops.render.render(write_still=True)
+    if not os.path.isfile(temporary):
+        raise RuntimeError('Blender wrote no image to ' + temporary)
+    os.replace(temporary, path)
+    print('furnace-cycles: seed %d -> %s (%.2f s)' % (seed, path, time.time() - start), flush=True)
+
+
+def main():
+    seeds, output, spp, threads = arguments()
+    scene = build(spp, threads)
+    for seed in seeds:
+        render(scene, seed, output.replace('{seed}', str(seed)))
+
+
+main()
+)PY";
+
+}  // namespace
+
+int cycles_max_bounces(int max_segments) {
+  FURNACE_CHECK(max_segments >= 2);
+  return max_segments == kUnlimitedDepth ? kCyclesMaxBounces : max_segments - 2;
+}
+
+CyclesMesh cycles_mesh(const Object& object, const CyclesOptions& options) {
+  const int grid = object.is_emitter() ? options.emitter_grid : 1;
+  return std::visit(
+      overloaded{[&](const Rectangle& r) {
+                   CyclesMesh mesh = parallelogram(r.corner, r.edge_u, r.edge_v, grid);
+                   mesh.construction = grid == 1 ? std::string("two triangles")
+                                                 : fmt::format("{0}x{0} grid of cells, two triangles each "
+                                                               "({1} triangles)",
+                                                               grid, 2 * grid * grid);
+                   mesh.exact = true;
+                   mesh.exact_area = r.area();
+                   finish_area(mesh);
+                   return mesh;
+                 },
+                 [&](const Triangle& t) {
+                   CyclesMesh mesh = triangle_grid(t, grid);
+                   mesh.construction = grid == 1 ? std::string("one triangle")
+                                                 : fmt::format("{} congruent triangles ({} along each edge)",
+                                                               grid * grid, grid);
+                   mesh.exact = true;
+                   mesh.exact_area = t.area();
+                   finish_area(mesh);
+                   return mesh;
+                 },
+                 [](const Disk& d) {
+                   CyclesMesh mesh = disk_mesh(d);
+                   finish_area(mesh);
+                   return mesh;
+                 },
+                 [&](const Sphere& s) {
+                   CyclesMesh mesh = sphere_mesh(s, options.sphere_subdivisions);
+                   finish_area(mesh);
+                   return mesh;
+                 }},
+      object.shape);
+}
+
+std::optional<std::string> cycles_refusal(const Scene& scene) {
+  const std::optional<std::string> reason = refusal_reason(scene);
+  if (!reason) return std::nullopt;
+  return fmt::format("scene '{}' ({}) cannot be exported to Cycles: {}.", scene.name, scene.source, *reason);
+}
+
+std::string export_cycles(const Scene& scene, const CyclesOptions& options) {
+  if (const auto refusal = cycles_refusal(scene)) throw Error(*refusal);
+  if (options.spp < 1 || options.spp > kCyclesMaxSpp)
+    throw Error(fmt::format("option --spp must be in [1, {}] for Cycles, got {}.", kCyclesMaxSpp, options.spp));
+  if (options.max_segments < 2 ||
+      (options.max_segments != kUnlimitedDepth && options.max_segments - 2 > kCyclesMaxBounces))
+    throw Error(fmt::format("option --max-depth must be 2 to {} path segments or unlimited for Cycles (its "
+                            "max_bounces B traces B + 2 segments), got {}.",
+                            kCyclesMaxBounces + 2, depth_name(options.max_segments)));
+  const Camera& c = scene.camera;
+  // Blender's pixel aspect: both factors >= 1, their ratio furnace's pixel width : height.
+  const double pixel_ratio = (c.width / c.width_px) / (c.height / c.height_px);
+  if (!(pixel_ratio >= 1.0 / kBlenderMaxPixelAspect && pixel_ratio <= kBlenderMaxPixelAspect))
+    throw Error(fmt::format("scene '{}' ({}) cannot be exported to Cycles: its pixels' width : height {} is "
+                            "beyond Blender's pixel aspect range 1/{} to {}.",
+                            scene.name, scene.source, pixel_ratio, kBlenderMaxPixelAspect, kBlenderMaxPixelAspect));
+  if (options.sphere_subdivisions < 0 || options.sphere_subdivisions > kMaxSphereSubdivisions)
+    throw Error(fmt::format("the sphere subdivision level must be in [0, {}], got {}.", kMaxSphereSubdivisions,
+                            options.sphere_subdivisions));
+  if (options.emitter_grid < 1 || options.emitter_grid > kMaxEmitterGrid)
+    throw Error(fmt::format("the emitter grid must be in [1, {}], got {}.", kMaxEmitterGrid, options.emitter_grid));
+  std::vector<CyclesMesh> meshes;
+  for (const Object& o : scene.objects) meshes.push_back(cycles_mesh(o, options));
+
+  std::string text = header(scene, options, meshes);
+  text += "\nSCENE = {\n";
+  text += fmt::format("    'name': {},\n    'spp': {},\n", python_string(scene.name), options.spp);
+  text += fmt::format("    'resolution': ({}, {}),\n", c.width_px, c.height_px);
+  text += fmt::format("    'pixel_aspect': ({}, {}),\n", num(std::max(pixel_ratio, 1.0)),
+                      num(std::max(1 / pixel_ratio, 1.0)));
+  // Camera axes: x = right = forward × up, y = the true up, z = −forward.
+  const Vec3 forward = normalize(c.forward);
+  const Vec3 right = normalize(cross(forward, c.up));
+  const Vec3 up = cross(right, forward);
+  const double width_px_aspect = c.width_px * std::max(pixel_ratio, 1.0);
+  const double height_px_aspect = c.height_px * std::max(1 / pixel_ratio, 1.0);
+  const bool horizontal = width_px_aspect >= height_px_aspect;
+  // The camera sits clip_start behind the image plane: its rays start on it.
+  const Vec3 eye = c.center - forward * clip_start(c);
+  text += "    'camera': {\n";
+  text += fmt::format("        'matrix': (({}, {}, {}, {}),\n", num(right.x), num(up.x), num(-forward.x), num(eye.x));
+  text += fmt::format("                   ({}, {}, {}, {}),\n", num(right.y), num(up.y), num(-forward.y), num(eye.y));
+  text += fmt::format("                   ({}, {}, {}, {}),\n", num(right.z), num(up.z), num(-forward.z), num(eye.z));
+  text += "                   (0, 0, 0, 1)),\n";
+  text += fmt::format("        'ortho_scale': {},\n        'sensor_fit': '{}',\n", num(horizontal ? c.width : c.height),
+                      horizontal ? "HORIZONTAL" : "VERTICAL");
+  text += fmt::format("        'clip_start': {},\n        'clip_end': {},\n    }},\n", num(clip_start(c)),
+                      num(kClipEnd));
+  text += fmt::format("    'environment': {},\n", num(scene.environment.radiance));
+  text += fmt::format("    'max_bounces': {},\n", cycles_max_bounces(options.max_segments));
+  text += "    'objects': [\n";
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const Object& o = scene.objects[i];
+    const CyclesMesh& mesh = meshes[i];
+    text += fmt::format("        {{'name': {}, 'albedo': {}, 'mirror': {}, 'emission': {}, 'two_sided': {},\n",
+                        python_string(o.name), num(o.material.albedo),
+                        reflects(o) && o.material.type == BsdfType::kMirror ? "True" : "False",
+                        num(o.emitted_radiance), o.two_sided ? "True" : "False");
+    text += "         'vertices': [";
+    for (size_t k = 0; k < mesh.vertices.size(); ++k) text += (k ? ", " : "") + tuple(mesh.vertices[k]);
+    text += "],\n         'triangles': [";
+    for (size_t k = 0; k < mesh.triangles.size(); ++k)
+      text += fmt::format("{}({}, {}, {})", k ? ", " : "", mesh.triangles[k][0], mesh.triangles[k][1],
+                          mesh.triangles[k][2]);
+    text += "]},\n";
+  }
+  text += "    ],\n}\n";
+  text += fmt::format("FILTER = ('{}', {})\n", kFilterType, num(kFilterWidth));
+  text += fmt::format("SEED_MAX = {}\nSPP_MAX = {}\n", kCyclesMaxSeed, kCyclesMaxSpp);
+  return text + kBuilder;
+}
+
+void write_cycles(const Scene& scene, const CyclesOptions& options, const std::filesystem::path& path) {
+  write_text_file_atomically(path, export_cycles(scene, options), "Cycles scene script");
+}
+
+}  // namespace furnace::exporter

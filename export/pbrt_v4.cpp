@@ -1,0 +1,263 @@
+// pbrt-v4 export. The facts it relies on, each measured with pbrt-v4 5f7a6068
+// (the peer binary of tests/export/pbrt_peer_test.cpp; K = 16 renders
+// of 256 spp checked by `furnace check`) or read where stated:
+//
+// | fact | how it was measured |
+// |---|---|
+// | `Option "disablepixeljitter" true` puts every camera ray through its pixel's centre, furnace's one ray per pixel | point_light (a hard shadow) passes with it; without it 39 of 1024 pixels fail |
+// | a box filter of radius 0 makes every pixel NaN (reported, written as 0); radius 0.5 is harmless once jitter is off | rendered |
+// | Film "rgb", "savefp16" false, sensor "cie1931", iso 100, shutter [0, 1]: a float EXR whose pixel value is radiance | every exportable built-in scene passes |
+// | a light with no spectrum emits the colour space's illuminant (D65 for sRGB) divided by its luminance, so "float scale" X gives R = G = B = X, for area, point and infinite lights alike | the scenes pass, the +1 % radiance control fails; source (lights.cpp) |
+// | reflectance as the constant spectrum [300 ρ 900 ρ] reflects ρ at every wavelength | the scenes pass, the albedo 0.49-for-0.5 control fails |
+// | for gray values "rgb L" [c c c] and "rgb reflectance" [ρ ρ ρ] render pixel-identical images to the two forms above; the spectrum forms are kept because their meaning does not rest on the RGB-to-spectrum tables | disk_occluder rendered both ways |
+// | integrator "path" with maxdepth M traces M + 1 path segments (the camera's included); its Russian roulette divides by the survival probability | enclosure_box_rho5 at maxdepth 2 passes the 3-segment reference and fails the 2- and 4-segment ones; enclosure_box_rho99 (mean path length 100) passes at unlimited depth |
+// | disks face +z and emit on their front only; a disk's hit normal flips under a handedness-swapping transform but its sampled normal does not, so disks are placed by proper rotations only | source (shapes.h); disk lights facing -z pass |
+// | triangles face cross(p1 − p0, p2 − p0), spheres outward, as in furnace | one-sided rectangle lights and enclosure walls pass |
+// | `Scale -1 1 1` before `LookAt` makes image right = cross(forward, up) (LookAt alone gives cross(up, forward)); an orthographic camera's rays start on the plane through the eye, as furnace's do | asymmetric scenes pass, the mirrored-image control fails |
+// | no per-object camera visibility: the camera sees every shape, as furnace's camera does | same camera placement as furnace |
+// | a conductor with "reflectance" r and roughness 0 is a smooth mirror whose Fresnel reflectance is r at normal incidence only (eta 1, k = 2√r/√(1−r), r clamped to 0.9999) | source (materials.h); mirror_disk passes |
+// | environment maps only as equal-area octahedral square images | documentation |
+// | the independent sampler's numbers depend only on (pixel, seed); a seed in the file overrides `pbrt --seed` | equal seeds give pixel-identical renders, distinct ones differ; source (samplers.cpp) |
+#include "export/pbrt_v4.h"
+
+#include <algorithm>
+#include <cmath>
+#include <variant>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/atomic_file.h"
+
+namespace furnace::exporter {
+
+namespace {
+
+// A mirror must face the camera this exactly: at an angle θ off normal
+// incidence pbrt's conductor reflects r + O(θ²), and 1 − cos θ ≤ 1e-9 keeps
+// θ below 5e-5 rad, an error far below any Monte Carlo test's resolution.
+constexpr double kMirrorNormalIncidenceTolerance = 1e-9;
+// pbrt clamps a conductor's "reflectance" to this value.
+constexpr double kPbrtMaxConductorReflectance = 0.9999;
+
+// Shortest round-trip decimal; adding +0.0 writes -0 as 0.
+std::string num(double x) { return fmt::format("{}", x + 0.0); }
+std::string point(const Vec3& p) { return fmt::format("{} {} {}", num(p.x), num(p.y), num(p.z)); }
+std::string constant_spectrum(double value) { return fmt::format("[300 {0} 900 {0}]", value); }
+// A name on one comment line: a line break in it would end the comment.
+std::string comment_text(std::string name) {
+  std::replace(name.begin(), name.end(), '\n', ' ');
+  std::replace(name.begin(), name.end(), '\r', ' ');
+  return name;
+}
+
+bool reflects(const Object& o) { return o.material.albedo > 0; }
+bool is_reflecting_mirror(const Object& o) { return reflects(o) && o.material.type == BsdfType::kMirror; }
+
+std::optional<std::string> mirror_refusal(const Scene& scene, const Object& mirror) {
+  if (!is_planar(mirror.shape))
+    return fmt::format("the mirror '{}' is a sphere, which camera rays meet at oblique incidence", mirror.name);
+  if (mirror.material.albedo > kPbrtMaxConductorReflectance)
+    return fmt::format("the mirror '{}' has reflectance {}, above the {} to which pbrt clamps a conductor",
+                       mirror.name, mirror.material.albedo, kPbrtMaxConductorReflectance);
+  const Vec3 n = shape_normal(mirror.shape, Vec3{});
+  const double cos_incidence = std::fabs(dot(n, normalize(scene.camera.forward)));
+  if (1 - cos_incidence > kMirrorNormalIncidenceTolerance)
+    return fmt::format("the mirror '{}' is not perpendicular to the camera's forward direction, so camera rays "
+                       "meet it at oblique incidence",
+                       mirror.name);
+  for (const Object& o : scene.objects)
+    if (reflects(o) && !is_reflecting_mirror(o))
+      return fmt::format("the object '{}' reflects light onto the mirror '{}' at oblique incidence", o.name,
+                         mirror.name);
+  return std::nullopt;
+}
+
+// The reason pbrt-v4 cannot express `scene`, without the scene's name.
+std::optional<std::string> refusal_reason(const Scene& scene) {
+  if (scene.environment.map)
+    return fmt::format("its environment map '{}' is a latitude-longitude image, and pbrt-v4 takes image "
+                       "environments only as equal-area octahedral square images (resampling would change the "
+                       "radiance the exact reference integrates)",
+                       scene.environment.map_file);
+  for (const Object& o : scene.objects) {
+    if (!reflects(o)) continue;
+    if (o.material.type == BsdfType::kPhong)
+      return fmt::format("the object '{}' has a normalised Phong BSDF, which pbrt-v4 does not have", o.name);
+    if (o.material.type == BsdfType::kMirror) {
+      // pbrt's only smooth mirror is a conductor whose Fresnel reflectance
+      // equals ρ at normal incidence only; export it only where every path
+      // meets it there.
+      if (auto reason = mirror_refusal(scene, o))
+        return "pbrt-v4 has no ideal mirror (its smooth conductor of reflectance r reflects r at normal incidence "
+               "only) and " + *reason;
+    }
+  }
+  return std::nullopt;
+}
+
+std::string material(const Object& o) {
+  if (is_reflecting_mirror(o))
+    return fmt::format("Material \"conductor\" \"spectrum reflectance\" {} \"float roughness\" 0\n",
+                       constant_spectrum(o.material.albedo));
+  // Lambertian, or black (any type with albedo 0).
+  return fmt::format("Material \"diffuse\" \"spectrum reflectance\" {}\n", constant_spectrum(o.material.albedo));
+}
+
+std::string triangle_mesh(std::initializer_list<Vec3> vertices, const std::string& indices) {
+  std::string p;
+  for (const Vec3& v : vertices) p += (p.empty() ? "" : "  ") + point(v);
+  return fmt::format("Shape \"trianglemesh\" \"point3 P\" [{}] \"integer indices\" [{}]\n", p, indices);
+}
+
+// The shape in world space. Triangle meshes need no transform (they face
+// cross(p1 − p0, p2 − p0), as furnace's do); a disk is placed by a proper
+// rotation taking +z to its normal; a sphere by a translation.
+std::string shape(const Shape& s) {
+  struct Visitor {
+    std::string operator()(const Rectangle& r) const {
+      return triangle_mesh({r.corner, r.corner + r.edge_u, r.corner + r.edge_u + r.edge_v, r.corner + r.edge_v},
+                           "0 1 2  0 2 3");
+    }
+    std::string operator()(const Triangle& t) const { return triangle_mesh({t.p0, t.p1, t.p2}, "0 1 2"); }
+    std::string operator()(const Sphere& sp) const {
+      return fmt::format("Translate {}\nShape \"sphere\" \"float radius\" {}\n", point(sp.center), sp.radius);
+    }
+    std::string operator()(const Disk& d) const {
+      const Frame f = Frame::from_normal(normalize(d.normal));
+      FURNACE_CHECK(dot(cross(f.s, f.t), f.n) > 0);  // right-handed: a rotation, not a reflection
+      // pbrt reads the 16 numbers column by column: the columns are the images
+      // of the object's x, y, z axes and its origin.
+      return fmt::format("Transform [{} 0  {} 0  {} 0  {} 1]\nShape \"disk\" \"float radius\" {}\n", point(f.s),
+                         point(f.t), point(f.n), point(d.center), d.radius);
+    }
+  };
+  return std::visit(Visitor{}, s);
+}
+
+std::string object(const Object& o) {
+  std::string text = fmt::format("# {}\nAttributeBegin\n", comment_text(o.name));
+  text += material(o);
+  if (o.is_emitter())
+    text += fmt::format("AreaLightSource \"diffuse\" \"float scale\" {}{}\n", num(o.emitted_radiance),
+                        o.two_sided ? " \"bool twosided\" true" : "");
+  text += shape(o.shape);
+  return text + "AttributeEnd\n";
+}
+
+std::string header(const Scene& scene, const PbrtV4Options& options) {
+  const int max_depth = pbrt_max_depth(options.max_segments);
+  const std::string depth_words = options.max_segments == kUnlimitedDepth
+                                      ? std::string("unlimited depth")
+                                      : fmt::format("{} path segments", options.max_segments);
+  std::string text = fmt::format(
+      "# Scene '{}' ({}) exported by `furnace export --format pbrt-v4` for pbrt-v4 (facts measured with 5f7a6068).\n"
+      "# Render K >= 2 times with distinct seeds, then test the images against the exact reference:\n"
+      "#   pbrt --seed S --outfile render_S.exr this.pbrt\n"
+      "#   furnace check --scene {} --max-depth {} --image render_1.exr --image render_2.exr ...\n"
+      "# pbrt's answer is furnace's global illumination at {}{}.\n"
+      "# Facts this file relies on:\n"
+      "# - Option \"disablepixeljitter\": every camera ray passes through its pixel's centre, as furnace's one ray\n"
+      "#   per pixel centre; the box filter keeps radius 0.5 (radius 0 makes every pixel NaN).\n"
+      "# - Film \"rgb\" with \"savefp16\" false, sensor \"cie1931\", iso 100, shutter [0, 1]: the float EXR pixel is\n"
+      "#   radiance. pbrt renders spectrally, so R, G and B carry different noise; their mean is the gray value.\n"
+      "# - No light names a spectrum: each then emits the colour space's illuminant (D65) divided by its luminance,\n"
+      "#   so \"float scale\" X gives R = G = B = X (furnace's gray radiance Le, intensity I or environment L).\n"
+      "# - Reflectances are constant spectra [300 r 900 r]: r at every wavelength, whatever pbrt's RGB-to-spectrum\n"
+      "#   tables (a gray \"rgb\" reflectance or \"rgb L\" renders identically with 5f7a6068).\n"
+      "# - Integrator \"path\" maxdepth M traces M + 1 path segments, the camera's included: maxdepth {}\n"
+      "#   is {}. Russian roulette ends the paths, unbiased (it divides by the survival probability).\n"
+      "# - Disks face +z and are placed by proper rotations; triangles face cross(p1 - p0, p2 - p0); spheres face\n"
+      "#   outward; an area light emits on its front only unless \"twosided\". furnace's fronts are the same.\n"
+      "# - Scale -1 1 1 before LookAt makes image right = cross(forward, up), furnace's; pixel (0, 0) is top-left.\n"
+      "#   The orthographic rays start on the plane through the eye, as furnace's start on its image plane, and\n"
+      "#   see every shape, as furnace's camera does.\n"
+      "# - {}\n",
+      comment_text(scene.name), comment_text(scene.source), comment_text(scene.source),
+      depth_name(check_max_depth(scene, options)), depth_words,
+      check_max_depth(scene, options) == 2 && options.max_segments != 2
+          ? ",\n# which is direct lighting here: light reaches the eye after at most one bounce, off the only reflector"
+          : "",
+      max_depth, depth_words,
+      options.seed ? fmt::format("\"integer seed\" {} is fixed here and overrides `pbrt --seed`.", *options.seed)
+                   : std::string("No seed is set here: `pbrt --seed S` chooses the independent sampler's numbers,\n"
+                                 "#   which depend only on (pixel, seed)."));
+  for (const Object& o : scene.objects)
+    if (is_reflecting_mirror(o))
+      text += fmt::format(
+          "# - The mirror '{}' (reflectance {}) is a smooth conductor whose Fresnel reflectance is {} at normal\n"
+          "#   incidence only; every path meets it there (it is perpendicular to the camera and nothing else\n"
+          "#   reflects), so this export is exact.\n",
+          comment_text(o.name), o.material.albedo, o.material.albedo);
+  return text + "\n";
+}
+
+}  // namespace
+
+bool direct_lighting_is_complete(const Scene& scene) {
+  int reflecting = 0;
+  for (const Object& o : scene.objects) {
+    if (!reflects(o)) continue;
+    ++reflecting;
+    if (o.material.type != BsdfType::kLambertian || !is_planar(o.shape)) return false;
+  }
+  return reflecting <= 1;
+}
+
+int check_max_depth(const Scene& scene, const PbrtV4Options& options) {
+  return direct_lighting_is_complete(scene) && options.max_segments >= 2 ? 2 : options.max_segments;
+}
+
+int pbrt_max_depth(int max_segments) {
+  FURNACE_CHECK(max_segments >= 1);
+  return max_segments == kUnlimitedDepth ? kUnlimitedDepth - 1 : max_segments - 1;
+}
+
+std::optional<std::string> pbrt_v4_refusal(const Scene& scene) {
+  const std::optional<std::string> reason = refusal_reason(scene);
+  if (!reason) return std::nullopt;
+  return fmt::format("scene '{}' ({}) cannot be exported to pbrt-v4: {}.", scene.name, scene.source, *reason);
+}
+
+std::string export_pbrt_v4(const Scene& scene, const PbrtV4Options& options) {
+  if (const auto refusal = pbrt_v4_refusal(scene)) throw Error(*refusal);
+  if (options.spp < 1) throw Error(fmt::format("option --spp must be at least 1, got {}.", options.spp));
+  if (options.max_segments < 1)
+    throw Error(fmt::format("option --max-depth must be at least 1 path segment, got {}.", options.max_segments));
+  if (options.image_filename.find_first_of("\"\n") != std::string::npos)
+    throw Error(fmt::format("the image file name '{}' cannot be written in a pbrt string (it holds a quote or a "
+                            "newline).",
+                            options.image_filename));
+  const Camera& c = scene.camera;
+  std::string text = header(scene, options);
+  text += "Option \"disablepixeljitter\" true\n";
+  text += "Option \"rendercoordsys\" \"world\"\n";
+  text += "Scale -1 1 1\n";
+  text += fmt::format("LookAt {}  {}  {}\n", point(c.center), point(c.center + normalize(c.forward)), point(c.up));
+  text += fmt::format(
+      "Camera \"orthographic\" \"float screenwindow\" [{} {} {} {}] \"float shutteropen\" 0 \"float shutterclose\" 1\n",
+      num(-c.width / 2), num(c.width / 2), num(-c.height / 2), num(c.height / 2));
+  text += fmt::format("Sampler \"independent\" \"integer pixelsamples\" {}{}\n", options.spp,
+                      options.seed ? fmt::format(" \"integer seed\" {}", *options.seed) : std::string());
+  text += fmt::format("Integrator \"path\" \"integer maxdepth\" {}\n", pbrt_max_depth(options.max_segments));
+  text += "PixelFilter \"box\" \"float xradius\" 0.5 \"float yradius\" 0.5\n";
+  text += fmt::format(
+      "Film \"rgb\" \"integer xresolution\" {} \"integer yresolution\" {} \"bool savefp16\" false\n"
+      "  \"string sensor\" \"cie1931\" \"float iso\" 100 \"string filename\" \"{}\"\n",
+      c.width_px, c.height_px, options.image_filename);
+  text += "\nWorldBegin\n";
+  if (scene.environment.radiance > 0)
+    text += fmt::format("# constant environment\nLightSource \"infinite\" \"float scale\" {}\n",
+                        num(scene.environment.radiance));
+  for (const PointLight& light : scene.point_lights)
+    text += fmt::format("# {}\nLightSource \"point\" \"float scale\" {} \"point3 from\" [{}]\n",
+                        comment_text(light.name), num(light.intensity), point(light.position));
+  for (const Object& o : scene.objects) text += object(o);
+  return text;
+}
+
+void write_pbrt_v4(const Scene& scene, const PbrtV4Options& options, const std::filesystem::path& path) {
+  write_text_file_atomically(path, export_pbrt_v4(scene, options), "pbrt-v4 scene file");
+}
+
+}  // namespace furnace::exporter

@@ -1,0 +1,156 @@
+// The command line's validators (cli/cli_options.h) and progress line
+// (cli/progress.h): each validator on both sides of its bounds, on NaN,
+// infinities, wrapped or octal integers, and on output paths that cannot be
+// written.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+
+#include "core/error.h"
+#include "cli/cli_options.h"
+#include "cli/progress.h"
+
+namespace furnace::cli {
+namespace {
+
+// The validator's verdict on `text`: empty when accepted; `text` becomes the
+// string CLI11 then converts.
+std::string check(const CLI::Validator& v, std::string& text) { return v(text); }
+bool accepts(const CLI::Validator& v, std::string text) { return check(v, text).empty(); }
+
+TEST(IntegerIn, AcceptsItsBoundsAndRejectsBeyondThem) {
+  const CLI::Validator v = integer_in(2, 100);
+  EXPECT_TRUE(accepts(v, "2"));
+  EXPECT_TRUE(accepts(v, "100"));
+  EXPECT_FALSE(accepts(v, "1"));
+  EXPECT_FALSE(accepts(v, "101"));
+  EXPECT_FALSE(accepts(v, "-3"));
+}
+
+TEST(IntegerIn, RejectsWhatIsNotADecimalIntegerAndNamesTheValue) {
+  const CLI::Validator v = integer_in(0, 1 << 24);
+  for (const char* bad : {"", "abc", "1e3", "2.5", "0x10", "+5", " 5", "5 ", "nan", "99999999999999999999"}) {
+    std::string text = bad;
+    const std::string message = check(v, text);
+    EXPECT_FALSE(message.empty()) << bad;
+    EXPECT_NE(message.find("'" + std::string(bad) + "'"), std::string::npos) << message;
+  }
+}
+
+TEST(IntegerIn, RewritesLeadingZerosSoTheValueIsNotReadAsOctal) {
+  std::string text = "010";
+  EXPECT_TRUE(check(integer_in(0, 100), text).empty());
+  EXPECT_EQ(text, "10");
+}
+
+TEST(SeedValue, TakesTheFullUnsignedRangeAndNothingThatWouldWrap) {
+  const CLI::Validator v = seed_value();
+  EXPECT_TRUE(accepts(v, "0"));
+  EXPECT_TRUE(accepts(v, "18446744073709551615"));  // 2^64 − 1
+  EXPECT_FALSE(accepts(v, "18446744073709551616"));  // 2^64: strtoull saturates to 2^64 − 1
+  EXPECT_FALSE(accepts(v, "-1"));                    // strtoull wraps to 2^64 − 1
+  EXPECT_FALSE(accepts(v, "1.5"));
+  EXPECT_FALSE(accepts(v, ""));
+}
+
+TEST(NumberIn, RejectsNonFiniteValuesThatCliRangeLetsThrough) {
+  const CLI::Validator v = number_in(1e-12, 0.5);
+  EXPECT_TRUE(accepts(v, "0.01"));
+  EXPECT_TRUE(accepts(v, "1e-12"));
+  EXPECT_TRUE(accepts(v, "0.5"));
+  for (const char* bad : {"nan", "NaN", "-nan", "inf", "-inf", "infinity", "1e400", "0.5000001", "1e-13", "0", "x", ""})
+    EXPECT_FALSE(accepts(v, bad)) << bad;
+}
+
+TEST(NumberIn, OpenEndsExcludeTheirBound) {
+  const CLI::Validator v = number_in(0, 1, End::kOpen);
+  EXPECT_FALSE(accepts(v, "0"));
+  EXPECT_TRUE(accepts(v, "1e-300"));
+  EXPECT_TRUE(accepts(v, "1"));
+  const CLI::Validator both = number_in(0, 1, End::kOpen, End::kOpen);
+  EXPECT_FALSE(accepts(both, "1"));
+  EXPECT_TRUE(accepts(both, "0.999"));
+}
+
+TEST(FiniteNumber, RejectsNanAndInfinity) {
+  EXPECT_TRUE(accepts(finite_number(), "-1000"));
+  EXPECT_TRUE(accepts(finite_number(), "1e300"));
+  for (const char* bad : {"nan", "inf", "-inf", "1e999", "1,2", ""}) EXPECT_FALSE(accepts(finite_number(), bad)) << bad;
+}
+
+class OutputPaths : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() / ("furnace_cli_options_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir_);
+    std::ofstream(dir_ / "afile") << "x";
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::filesystem::path dir_;
+};
+
+TEST_F(OutputPaths, FileNeedsAnExistingWritableDirectory) {
+  EXPECT_TRUE(accepts(output_file(), path("out.exr")));
+  EXPECT_TRUE(accepts(output_file(), path("afile")));  // overwritten atomically
+  EXPECT_FALSE(accepts(output_file(), path("missing/out.exr")));
+  EXPECT_FALSE(accepts(output_file(), path("afile/out.exr")));
+  EXPECT_FALSE(accepts(output_file(), dir_.string()));  // a directory
+  EXPECT_FALSE(accepts(output_file(), ""));
+  EXPECT_TRUE(accepts(output_file(true), "-"));
+}
+
+TEST_F(OutputPaths, DirectoryMayBeCreatedUnlessAFileIsInTheWay) {
+  EXPECT_TRUE(accepts(output_directory(), dir_.string()));
+  EXPECT_TRUE(accepts(output_directory(), path("new/deeper")));
+  EXPECT_FALSE(accepts(output_directory(), path("afile")));
+  EXPECT_FALSE(accepts(output_directory(), path("afile/sub")));
+  EXPECT_FALSE(accepts(output_directory(), ""));
+  create_output_directory(path("new/deeper"), "--output-dir");
+  EXPECT_TRUE(std::filesystem::is_directory(path("new/deeper")));
+  EXPECT_THROW(create_output_directory(path("afile/sub"), "--output-dir"), Error);
+}
+
+TEST(ParseErrorMessage, NamesAnUnknownSubcommandOrListsThem) {
+  CLI::App app{"t"};
+  app.require_subcommand(1);
+  app.add_subcommand("render", "");
+  app.add_subcommand("verify", "");
+  const auto message_for = [&](std::vector<std::string> args) {
+    std::reverse(args.begin(), args.end());  // CLI11 takes them reversed
+    try {
+      app.parse(args);
+    } catch (const CLI::ParseError& e) {
+      return parse_error_message(app, e);
+    }
+    return std::string("parsed");
+  };
+  const std::string unknown = message_for({"frobnicate"});
+  EXPECT_NE(unknown.find("unknown subcommand 'frobnicate'"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("render, verify"), std::string::npos) << unknown;
+  app.clear();
+  const std::string none = message_for({});
+  EXPECT_NE(none.find("a subcommand is required"), std::string::npos) << none;
+  EXPECT_EQ(none.find('\n'), std::string::npos) << none;
+}
+
+}  // namespace
+}  // namespace furnace::cli
+
+namespace furnace::verify {
+namespace {
+
+TEST(Progress, LineCountsElapsedAndRemainingTime) {
+  EXPECT_EQ(Progress::line("verify", 0, 10, 0), "verify: 0/10 done, 0 s elapsed");
+  EXPECT_EQ(Progress::line("verify", 5, 20, 30), "verify: 5/20 done, 30 s elapsed, ~1.5 min left");
+  EXPECT_EQ(Progress::line("sweep", 20, 20, 7200), "sweep: 20/20 done, 2.0 h elapsed");
+}
+
+}  // namespace
+}  // namespace furnace::verify

@@ -1,0 +1,543 @@
+// The Cycles exporter without Blender: which scenes it refuses and why, the
+// facts it writes (depth mapping, sampling, filter, film, one-sidedness,
+// camera), the tessellations (vertex counts, equal area, facing, closure)
+// and their stated errors, atomic output and the CLI's exit codes.
+#include "export/cycles.h"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "analytic/polygon.h"
+#include "analytic/reference.h"
+#include "core/error.h"
+#include "core/scene.h"
+#include "tests/command.h"
+
+namespace furnace::exporter {
+namespace {
+
+namespace fs = std::filesystem;
+
+Scene builtin(const std::string& name) { return load_scene(fs::path(FURNACE_SCENE_DIR) / (name + ".json")); }
+
+std::string refusal_of(const Scene& scene) { return cycles_refusal(scene).value_or(""); }
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// The opening comment block: everything before the SCENE data.
+std::string header_of(const std::string& script) { return script.substr(0, script.find("\nSCENE = {")); }
+
+Vec3 triangle_normal(const CyclesMesh& m, const std::array<int, 3>& t) {
+  return cross(m.vertices[t[1]] - m.vertices[t[0]], m.vertices[t[2]] - m.vertices[t[0]]);
+}
+
+TEST(CyclesExport, RefusesExactlyImageEnvironmentsPointLightsAndGlossyScenesAmongTheBuiltInScenes) {
+  std::set<std::string> refused;
+  for (const auto& entry : fs::directory_iterator(FURNACE_SCENE_DIR)) {
+    if (entry.path().extension() != ".json") continue;
+    const Scene scene = load_scene(entry.path());
+    if (cycles_refusal(scene)) refused.insert(scene.name);
+  }
+  EXPECT_EQ(refused, (std::set<std::string>{"environment_map", "environment_map_tilted", "glossy_environment",
+                                            "glossy_sphere_light", "point_light", "point_light_unoccluded",
+                                            "point_and_area"}));
+}
+
+TEST(CyclesExport, RefusalsNameSceneAndFeatureAndExportThrowsThem) {
+  const std::string env = refusal_of(builtin("environment_map"));
+  EXPECT_TRUE(contains(env, "scene 'environment_map'") && contains(env, "environment map")) << env;
+  const std::string point = refusal_of(builtin("point_light"));
+  EXPECT_TRUE(contains(point, "scene 'point_light'") && contains(point, "point light")) << point;
+  const std::string glossy = refusal_of(builtin("glossy_sphere_light"));
+  EXPECT_TRUE(contains(glossy, "Phong")) << glossy;
+  try {
+    export_cycles(builtin("point_light"), {});
+    ADD_FAILURE() << "export_cycles accepted a point light";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), point);
+  }
+}
+
+TEST(CyclesExport, BlackPhongIsBlackDiffuseAndSphericalMirrorsAreRefused) {
+  Scene scene = builtin("disk_occluder");
+  scene.objects[2].material = {BsdfType::kPhong, 0, 10};
+  EXPECT_FALSE(cycles_refusal(scene));
+  Scene ball = builtin("convex_furnace");
+  ball.objects[0].material = {BsdfType::kMirror, 0.5, 0};
+  const std::string reason = refusal_of(ball);
+  EXPECT_TRUE(contains(reason, "'ball'") && contains(reason, "sphere")) << reason;
+}
+
+TEST(CyclesExport, PlanarMirrorIsGlossySharp) {
+  const std::string text = export_cycles(builtin("mirror_disk"), {});
+  EXPECT_TRUE(contains(text, "'albedo': 0.8, 'mirror': True")) << header_of(text);
+  EXPECT_TRUE(contains(text, "bsdf.distribution = 'SHARP'"));
+}
+
+TEST(CyclesExport, MaxBouncesIsSegmentsMinusTwoAndUnlimitedIsBlendersLargest) {
+  EXPECT_EQ(cycles_max_bounces(2), 0);
+  EXPECT_EQ(cycles_max_bounces(6), 4);
+  EXPECT_EQ(cycles_max_bounces(kUnlimitedDepth), kCyclesMaxBounces);
+  const Scene scene = builtin("enclosure_box_rho5");
+  CyclesOptions options;
+  options.max_segments = 6;
+  const std::string text = export_cycles(scene, options);
+  EXPECT_TRUE(contains(text, "    'max_bounces': 4,\n")) << header_of(text);
+  EXPECT_TRUE(contains(text, "--max-depth 6 ")) << header_of(text);
+  EXPECT_TRUE(contains(export_cycles(scene, {}), "    'max_bounces': 1024,\n"));
+  for (int bad : {1, kCyclesMaxBounces + 3}) {
+    options.max_segments = bad;
+    EXPECT_THROW(export_cycles(scene, options), Error) << bad;
+  }
+  options.max_segments = kCyclesMaxBounces + 2;
+  EXPECT_NO_THROW(export_cycles(scene, options));
+}
+
+TEST(CyclesExport, NamesTheCheckDepth) {
+  EXPECT_TRUE(contains(export_cycles(builtin("environment_blocker"), {}), "--max-depth 2 "));
+  EXPECT_TRUE(contains(export_cycles(builtin("enclosure_box"), {}), "--max-depth unlimited "));
+}
+
+TEST(CyclesExport, WritesTheRenderSettingsItsFactsNeed) {
+  const std::string text = export_cycles(builtin("disk_occluder"), {});
+  for (const char* setting :
+       {"FILTER = ('BLACKMAN_HARRIS', 0.01)", "cy.pixel_filter_type = FILTER[0]", "cy.filter_width = FILTER[1]",
+        "cy.sampling_pattern = 'SOBOL'", "cy.use_adaptive_sampling = False", "cy.use_denoising = False",
+        "cy.sample_clamp_direct = 0.0", "cy.sample_clamp_indirect = 0.0", "cy.light_sampling_threshold = 0.0",
+        "cy.blur_glossy = 0.0", "cy.device = 'CPU'", "cy.use_animated_seed = False", "scene.cycles.seed = seed",
+        "view.view_transform = 'Standard'", "view.look = 'None'", "view.exposure = 0.0", "view.gamma = 1.0",
+        "image.file_format = 'OPEN_EXR'", "image.color_depth = '32'", "image.exr_codec = 'ZIP'",
+        "camera.type = 'ORTHO'", "r.resolution_percentage = 100", "    'spp': 128,\n",
+        "    'resolution': (32, 32),\n", "    'pixel_aspect': (1, 1),\n"})
+    EXPECT_TRUE(contains(text, setting)) << setting;
+  const std::string header = header_of(text);
+  EXPECT_EQ(header.rfind("# Scene 'disk_occluder'", 0), 0u) << header;
+  for (const char* fact : {"Blackman-Harris filter of width 0.01 px", "Box filter is always 1 px",
+                           "Sobol-Burley", "max_bounces B traces B + 2 path segments", "Backfacing",
+                           "view transform Standard", "libembree3", "--seeds 1-16 --output render_{seed}.exr"})
+    EXPECT_TRUE(contains(header, fact)) << fact;
+}
+
+TEST(CyclesExport, OneSidedEmittersAreMarkedAndTheBuilderMixesByBackfacing) {
+  const std::string one = export_cycles(builtin("disk_occluder"), {});
+  EXPECT_TRUE(contains(one, "'name': 'light', 'albedo': 0, 'mirror': False, 'emission': 4, 'two_sided': False"));
+  EXPECT_TRUE(contains(one, "links.new(geometry.outputs['Backfacing'], front_only.inputs['Fac'])"));
+  const std::string two = export_cycles(builtin("enclosure_sphere"), {});
+  EXPECT_TRUE(contains(two, "'emission': 1.5, 'two_sided': True")) << header_of(two);
+}
+
+// The camera block of a script: matrix rows, ortho_scale, sensor fit.
+struct CameraBlock {
+  double m[3][4] = {};
+  double ortho_scale = 0;
+  std::string sensor_fit;
+  double aspect_x = 0, aspect_y = 0;
+};
+
+CameraBlock camera_block(const std::string& text) {
+  CameraBlock c;
+  const std::regex row(R"(\(([-0-9.e]+), ([-0-9.e]+), ([-0-9.e]+), ([-0-9.e]+)\),)");
+  auto begin = text.find("'matrix': (");
+  std::string rest = text.substr(begin);
+  std::smatch m;
+  for (int i = 0; i < 3 && std::regex_search(rest, m, row); ++i) {
+    for (int k = 0; k < 4; ++k) c.m[i][k] = std::stod(m[k + 1].str());
+    rest = m.suffix();
+  }
+  std::smatch s;
+  if (std::regex_search(text, s, std::regex(R"('ortho_scale': ([-0-9.e]+),\n\s*'sensor_fit': '(\w+)')"))) {
+    c.ortho_scale = std::stod(s[1].str());
+    c.sensor_fit = s[2].str();
+  }
+  if (std::regex_search(text, s, std::regex(R"('pixel_aspect': \(([-0-9.e]+), ([-0-9.e]+)\))"))) {
+    c.aspect_x = std::stod(s[1].str());
+    c.aspect_y = std::stod(s[2].str());
+  }
+  return c;
+}
+
+TEST(CyclesExport, CameraAxesAreRightUpAndBackwardAndRaysStartOnTheImagePlane) {
+  // enclosure_sphere: center (0.1, -0.05, 0.3), forward ∝ (0.2, 0.1, -1), up (0, 1, 0), 1.2 x 1.2.
+  const CameraBlock c = camera_block(export_cycles(builtin("enclosure_sphere"), {}));
+  const Vec3 forward = normalize(Vec3{0.2, 0.1, -1});
+  const Vec3 right = normalize(cross(forward, Vec3{0, 1, 0}));
+  const Vec3 x{c.m[0][0], c.m[1][0], c.m[2][0]}, y{c.m[0][1], c.m[1][1], c.m[2][1]}, z{c.m[0][2], c.m[1][2], c.m[2][2]};
+  const Vec3 eye{c.m[0][3], c.m[1][3], c.m[2][3]};
+  EXPECT_NEAR(length(x - right), 0, 1e-15);
+  EXPECT_NEAR(length(z + forward), 0, 1e-15);
+  EXPECT_NEAR(dot(cross(x, y), z), 1, 1e-15) << "a rotation: Blender's camera looks along -z with +y up";
+  const Vec3 offset = Vec3{0.1, -0.05, 0.3} - eye;
+  EXPECT_NEAR(length(cross(offset, forward)), 0, 1e-15) << "the eye sits on the axis behind the image plane";
+  EXPECT_GT(dot(offset, forward), 0);
+  EXPECT_EQ(c.ortho_scale, 1.2);
+  EXPECT_EQ(c.sensor_fit, "HORIZONTAL");
+}
+
+TEST(CyclesExport, NonSquarePixelsBecomeBlendersPixelAspect) {
+  // grazing_emitters: 0.04 x 2 scene units on 8 x 32 pixels: pixels 0.005 wide, 0.0625 tall.
+  const CameraBlock c = camera_block(export_cycles(builtin("grazing_emitters"), {}));
+  EXPECT_EQ(c.aspect_x, 1);
+  EXPECT_NEAR(c.aspect_y, 12.5, 1e-12);
+  EXPECT_EQ(c.sensor_fit, "VERTICAL");
+  EXPECT_EQ(c.ortho_scale, 2);
+}
+
+// Every edge of a closed, consistently oriented mesh appears once in each direction.
+bool closed_and_consistent(const CyclesMesh& m) {
+  std::map<std::pair<int, int>, int> edges;
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) ++edges[{t[k], t[(k + 1) % 3]}];
+  for (const auto& [edge, count] : edges)
+    if (count != 1 || edges.count({edge.second, edge.first}) != 1) return false;
+  return true;
+}
+
+TEST(CyclesTessellation, DiskIsAnEqualAreaRegularPolygonFacingTheNormal) {
+  Object o;
+  o.shape = Disk{{0.3, -0.2, 0.5}, normalize(Vec3{0.3, -0.2, 1}), 0.7};
+  const Disk& d = std::get<Disk>(o.shape);
+  const CyclesMesh m = cycles_mesh(o);
+  EXPECT_EQ(m.vertices.size(), size_t(kCyclesDiskVertices + 1));
+  EXPECT_EQ(m.triangles.size(), size_t(kCyclesDiskVertices));
+  EXPECT_FALSE(m.exact);
+  EXPECT_NEAR(m.mesh_area / m.exact_area - 1, 0, 1e-12);
+  EXPECT_EQ(m.exact_area, d.area());
+  for (const auto& t : m.triangles) {
+    const Vec3 n = triangle_normal(m, t);
+    EXPECT_NEAR(length(cross(normalize(n), d.normal)), 0, 1e-9);
+    ASSERT_GT(dot(n, d.normal), 0);
+  }
+  // The rim: every vertex at R' from the centre, in the disk's plane.
+  const double circumradius = length(m.vertices[1] - d.center);
+  for (size_t k = 1; k < m.vertices.size(); ++k) {
+    EXPECT_NEAR(length(m.vertices[k] - d.center), circumradius, 1e-14);
+    EXPECT_NEAR(dot(m.vertices[k] - d.center, d.normal), 0, 1e-14);
+  }
+  // The stated errors: the vertices R' − R outside, the edge midpoints R − R'cos(π/N) inside.
+  EXPECT_NEAR(m.max_distance_outside, circumradius - d.radius, 1e-15);
+  const Vec3 midpoint = (m.vertices[1] + m.vertices[2]) * 0.5;
+  EXPECT_NEAR(m.max_distance_inside, d.radius - length(midpoint - d.center), 1e-15);
+  EXPECT_GT(m.max_distance_outside, 0);
+  EXPECT_GT(m.max_distance_inside, 0);
+  EXPECT_LT(m.max_distance_outside / d.radius, 2e-7);  // (π/N)²/3 for N = 4096
+}
+
+TEST(CyclesTessellation, SphereIsAClosedOutwardIcosphereOfTheSpheresArea) {
+  Object o;
+  o.shape = Sphere{{1, 2, -3}, 0.25};
+  const Sphere& s = std::get<Sphere>(o.shape);
+  const CyclesMesh m = cycles_mesh(o);
+  EXPECT_EQ(m.triangles.size(), size_t(5120));
+  EXPECT_EQ(m.vertices.size(), size_t(2562));
+  EXPECT_NEAR(m.mesh_area / m.exact_area - 1, 0, 1e-12);
+  EXPECT_TRUE(closed_and_consistent(m));
+  double nearest_plane = s.radius;
+  for (const auto& t : m.triangles) {
+    const Vec3 n = normalize(triangle_normal(m, t));
+    ASSERT_GT(dot(n, m.vertices[t[0]] - s.center), 0) << "faces outward";
+    nearest_plane = std::min(nearest_plane, dot(n, m.vertices[t[0]] - s.center));
+  }
+  const double circumradius = length(m.vertices[0] - s.center);
+  for (const Vec3& v : m.vertices) EXPECT_NEAR(length(v - s.center), circumradius, 1e-15);
+  EXPECT_NEAR(m.max_distance_outside, circumradius - s.radius, 1e-15);
+  EXPECT_NEAR(m.max_distance_inside, s.radius - nearest_plane, 1e-15);
+  EXPECT_GT(m.max_distance_outside, 0);
+  EXPECT_GT(m.max_distance_inside, 0);
+  CyclesOptions fine;
+  fine.sphere_subdivisions = 6;
+  EXPECT_EQ(cycles_mesh(o, fine).triangles.size(), size_t(81920));
+}
+
+TEST(CyclesTessellation, EmittingRectanglesAndTrianglesAreGridsOfTheSameSurface) {
+  Object rect;
+  rect.shape = Rectangle{{-1.5, 1, 1}, {3, 0, 0}, {0, -2, 0}};
+  const CyclesMesh black = cycles_mesh(rect);
+  EXPECT_EQ(black.triangles.size(), 2u);
+  EXPECT_TRUE(black.exact);
+  rect.emitted_radiance = 2;
+  const CyclesMesh lit = cycles_mesh(rect);
+  EXPECT_EQ(lit.triangles.size(), size_t(2 * kCyclesEmitterGrid * kCyclesEmitterGrid));
+  EXPECT_EQ(lit.vertices.size(), size_t((kCyclesEmitterGrid + 1) * (kCyclesEmitterGrid + 1)));
+  EXPECT_NEAR(lit.mesh_area / 6 - 1, 0, 1e-14);
+  const Vec3 front = std::get<Rectangle>(rect.shape).normal();
+  for (const CyclesMesh* m : {&black, &lit})
+    for (const auto& t : m->triangles) ASSERT_NEAR(length(normalize(triangle_normal(*m, t)) - front), 0, 1e-15);
+  CyclesOptions two;
+  two.emitter_grid = 1;
+  EXPECT_EQ(cycles_mesh(rect, two).triangles.size(), 2u);
+
+  Object tri;
+  tri.shape = Triangle{{0, 0, 1}, {1, 0, 1.5}, {0.2, 1, 1}};
+  tri.emitted_radiance = 1;
+  const CyclesMesh grid = cycles_mesh(tri);
+  EXPECT_EQ(grid.triangles.size(), size_t(kCyclesEmitterGrid * kCyclesEmitterGrid));
+  EXPECT_NEAR(grid.mesh_area / std::get<Triangle>(tri.shape).area() - 1, 0, 1e-14);
+  const Vec3 tri_front = std::get<Triangle>(tri.shape).normal();
+  for (const auto& t : grid.triangles) {
+    ASSERT_NEAR(length(normalize(triangle_normal(grid, t)) - tri_front), 0, 1e-12);
+    // congruent: every small triangle has 1/grid² of the area
+    ASSERT_NEAR(0.5 * length(triangle_normal(grid, t)) * kCyclesEmitterGrid * kCyclesEmitterGrid /
+                    std::get<Triangle>(tri.shape).area(),
+                1, 1e-12);
+  }
+}
+
+// What the icosphere does to the exact reference of sphere_light (a sphere
+// light over a Lambertian plane, every pixel on the plane): the polyhedron's
+// irradiance is the sum of Lambert's polygon formula over the triangles whose
+// front faces the point (a convex emitter: they tile what the point sees,
+// horizon-clipped), compared with the exact sphere at the same point.
+struct ReferenceChange {
+  double image_mean = 0;     // relative change of the mean over the pixels used
+  double worst_pixel = 0;    // largest |relative change| of a pixel
+};
+
+ReferenceChange sphere_light_reference_change(int subdivisions, int pixel_stride) {
+  const Scene scene = builtin("sphere_light");
+  const Object& receiver = scene.objects[0];
+  const Object& light = scene.objects[1];
+  CyclesOptions options;
+  options.sphere_subdivisions = subdivisions;
+  const CyclesMesh mesh = cycles_mesh(light, options);
+  const Vec3 n = shape_normal(receiver.shape, Vec3{});
+  double sum_exact = 0, sum_mesh = 0;
+  ReferenceChange change;
+  for (int py = 0; py < scene.camera.height_px; py += pixel_stride)
+    for (int px = 0; px < scene.camera.width_px; px += pixel_stride) {
+      const Camera::Ray ray = scene.camera.pixel_center_ray(px, py);
+      const auto hit = analytic::intersect(scene, ray.origin, ray.direction);
+      EXPECT_TRUE(hit && hit->object_index == 0) << "every pixel of sphere_light sees the receiver";
+      if (!hit || hit->object_index != 0) continue;
+      const double exact = analytic::pixel_center_radiance(scene, px, py);
+      double e_over_l = 0;
+      for (const auto& t : mesh.triangles) {
+        const Vec3 a = mesh.vertices[t[0]] - hit->point, b = mesh.vertices[t[1]] - hit->point,
+                   c = mesh.vertices[t[2]] - hit->point;
+        if (dot(cross(b - a, c - a), a) >= 0) continue;  // the point is behind this face
+        e_over_l += analytic::polygon_irradiance({a, b, c}, n);
+      }
+      const double tessellated = receiver.material.albedo / kPi * light.emitted_radiance * e_over_l;
+      sum_exact += exact;
+      sum_mesh += tessellated;
+      change.worst_pixel = std::max(change.worst_pixel, std::fabs(tessellated / exact - 1));
+    }
+  change.image_mean = sum_mesh / sum_exact - 1;
+  return change;
+}
+
+TEST(CyclesTessellation, TheDefaultIcosphereChangesSphereLightsReferenceFarBelowWhatTheCheckDetects) {
+  // Every 2nd pixel of every 2nd row (256 pixels) at 5120 triangles, every
+  // 8th (16 pixels) at 81 920, to keep the test near 3 s.
+  const ReferenceChange level4 = sphere_light_reference_change(kCyclesSphereSubdivisions, 2);
+  const ReferenceChange level6 = sphere_light_reference_change(6, 8);
+  std::printf("sphere_light reference with the icosphere instead of the sphere: 5120 triangles: image mean %+.3g, "
+              "worst pixel %.3g (256 pixels); 81920 triangles: image mean %+.3g, worst pixel %.3g (16 pixels)\n",
+              level4.image_mean, level4.worst_pixel, level6.image_mean, level6.worst_pixel);
+  // The peer test's detectable image-mean bias on sphere_light is 0.07 % at
+  // 512 spp and 0.23 % at 128 spp: the tessellation must stay far below it.
+  EXPECT_LT(std::fabs(level4.image_mean), 1e-4);
+  // Cycles renders the 81 920-triangle light 8.9e-4 too dark (the peer
+  // test's SphereLight81920Triangles): the tessellation accounts for less
+  // than 1/100 of that.
+  EXPECT_LT(std::fabs(level6.image_mean), 1e-5);
+  EXPECT_LT(level6.worst_pixel, level4.worst_pixel);
+}
+
+// The same for a disk light: `scene_name` reduced to its receiver (object 0)
+// and the disk light `light_name`, as a regular polygon of `vertices`
+// vertices and the disk's area (0: the export's 4096-gon itself), one
+// polygon for Lambert's formula (horizon-clipped), against the exact disk,
+// at every `pixel_stride`-th pixel of every `pixel_stride`-th row.
+ReferenceChange disk_light_reference_change(const std::string& scene_name, const std::string& light_name,
+                                            int vertices, int pixel_stride) {
+  const Scene full = builtin(scene_name);
+  Scene scene = full;
+  scene.objects = {full.objects[0]};
+  for (const Object& o : full.objects)
+    if (o.name == light_name) scene.objects.push_back(o);
+  EXPECT_EQ(scene.objects.size(), 2u);
+  const Object& receiver = scene.objects[0];
+  const Object& light = scene.objects[1];
+  const Disk& disk = std::get<Disk>(light.shape);
+  std::vector<Vec3> polygon;
+  if (vertices == 0) {
+    const CyclesMesh mesh = cycles_mesh(light);
+    polygon.assign(mesh.vertices.begin() + 1, mesh.vertices.end());  // the rim, without the fan's centre
+  } else {
+    const Frame f = Frame::from_normal(disk.normal);
+    const double circumradius = disk.radius * std::sqrt(2 * kPi / (vertices * std::sin(2 * kPi / vertices)));
+    for (int k = 0; k < vertices; ++k)
+      polygon.push_back(disk.center + f.s * (circumradius * std::cos(2 * kPi * k / vertices)) +
+                        f.t * (circumradius * std::sin(2 * kPi * k / vertices)));
+  }
+  const Vec3 n = shape_normal(receiver.shape, Vec3{});
+  double sum_exact = 0, sum_mesh = 0;
+  ReferenceChange change;
+  for (int py = 0; py < scene.camera.height_px; py += pixel_stride)
+    for (int px = 0; px < scene.camera.width_px; px += pixel_stride) {
+      const Camera::Ray ray = scene.camera.pixel_center_ray(px, py);
+      const auto hit = analytic::intersect(scene, ray.origin, ray.direction);
+      if (!hit || hit->object_index != 0) continue;  // only pixels on the receiver
+      const double exact = analytic::pixel_center_radiance(scene, px, py);
+      double e_over_l = 0;
+      if (dot(disk.normal, hit->point - disk.center) > 0) {  // the light's front faces the point
+        std::vector<Vec3> relative;
+        for (const Vec3& v : polygon) relative.push_back(v - hit->point);
+        e_over_l = analytic::polygon_irradiance(relative, n);
+      }
+      const double tessellated = receiver.material.albedo / kPi * light.emitted_radiance * e_over_l;
+      sum_exact += exact;
+      sum_mesh += tessellated;
+      if (exact > 0) change.worst_pixel = std::max(change.worst_pixel, std::fabs(tessellated / exact - 1));
+    }
+  change.image_mean = sum_mesh / sum_exact - 1;
+  return change;
+}
+
+TEST(CyclesTessellation, TheEqualAreaDiskChangesADiskLightsReferenceByRoundOffOnly) {
+  // An equal-area N-gon's change falls as N^-4 (measured on disk_occluder's
+  // light alone: 8-gon -6.6e-5, 64-gon -1.5e-8), so the 4096-gon's is
+  // ~1e-15, round-off. Lambert's formula over 4096 edges costs ~0.1 s per
+  // pixel here, hence few pixels for the export's own polygon.
+  for (const auto& [scene, light] :
+       std::vector<std::pair<std::string, std::string>>{{"disk_occluder", "light"}, {"grazing_emitters", "disk"}}) {
+    const ReferenceChange coarse = disk_light_reference_change(scene, light, 64, 1);
+    const ReferenceChange exported = disk_light_reference_change(scene, light, 0, 8);
+    std::printf("%s '%s' alone: equal-area 64-gon: image mean %+.3g, worst pixel %.3g (every pixel); the exported "
+                "4096-gon: image mean %+.3g, worst pixel %.3g (every 8th pixel of every 8th row)\n",
+                scene.c_str(), light.c_str(), coarse.image_mean, coarse.worst_pixel, exported.image_mean,
+                exported.worst_pixel);
+    EXPECT_LT(std::fabs(coarse.image_mean), 1e-6) << scene;
+    EXPECT_LT(exported.worst_pixel, 1e-12) << scene;
+  }
+}
+
+TEST(CyclesTessellation, ScriptStatesEachShapesErrorAndWritesTheMesh) {
+  const std::string text = export_cycles(builtin("sphere_light"), {});
+  const std::string header = header_of(text);
+  EXPECT_TRUE(contains(header, "icosahedron subdivided 4 times (5120 triangles, 2562 vertices)")) << header;
+  EXPECT_TRUE(contains(header, "farthest mesh point outside the exact surface")) << header;
+  EXPECT_TRUE(contains(header, "receiver: two triangles; exact")) << header;
+  const std::string disk = header_of(export_cycles(builtin("disk_occluder"), {}));
+  EXPECT_TRUE(contains(disk, "regular 4096-gon of the disk's area")) << disk;
+}
+
+TEST(CyclesExport, NamesAreQuotedForPythonAndComments) {
+  Scene scene = builtin("rectangle_light");
+  scene.objects[0].name = "it's\na \\ name";
+  const std::string text = export_cycles(scene, {});
+  EXPECT_TRUE(contains(text, "'name': 'it\\'s\\x0aa \\\\ name'")) << text.substr(0, 4000);
+  EXPECT_TRUE(contains(header_of(text), "#   it's a \\ name: two triangles")) << header_of(text);
+}
+
+TEST(CyclesExport, BadOptionsThrow) {
+  const Scene scene = builtin("disk_occluder");
+  CyclesOptions o;
+  o.spp = 0;
+  EXPECT_THROW(export_cycles(scene, o), Error);
+  o = {};
+  o.emitter_grid = 0;
+  EXPECT_THROW(export_cycles(scene, o), Error);
+  o = {};
+  o.sphere_subdivisions = 8;
+  EXPECT_THROW(export_cycles(scene, o), Error);
+}
+
+class CyclesExportFile : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("furnace_cycles_export_test_" + std::to_string(::getpid()) + "_" +
+            testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::vector<std::string> entries() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+    return names;
+  }
+  static std::string read(const fs::path& p) {
+    std::ifstream in(p);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  }
+  fs::path dir_;
+};
+
+TEST_F(CyclesExportFile, WritesTheWholeScriptAndNoTemporaryFile) {
+  const Scene scene = builtin("disk_occluder");
+  const fs::path out = dir_ / "scene.py";
+  write_cycles(scene, {}, out);
+  EXPECT_EQ(read(out), export_cycles(scene, {}));
+  EXPECT_EQ(entries(), std::vector<std::string>{"scene.py"});
+}
+
+TEST_F(CyclesExportFile, RefusalLeavesAnExistingFileUntouched) {
+  const fs::path out = dir_ / "scene.py";
+  std::ofstream(out) << "previous contents";
+  EXPECT_THROW(write_cycles(builtin("environment_map"), {}, out), Error);
+  EXPECT_EQ(read(out), "previous contents");
+  EXPECT_EQ(entries(), std::vector<std::string>{"scene.py"});
+}
+
+TEST_F(CyclesExportFile, ScriptIsValidPythonWhenPythonIsAvailable) {
+  if (testing_support::run_command("python3 -c pass 2>&1").exit_code != 0) GTEST_SKIP() << "skipped: no python3";
+  for (const char* name : {"disk_occluder", "enclosure_sphere", "mirror_disk", "grazing_emitters"}) {
+    const fs::path out = dir_ / (std::string(name) + ".py");
+    write_cycles(builtin(name), {}, out);
+    const auto r = testing_support::run_command("python3 -c \"import ast,sys; ast.parse(open(sys.argv[1]).read())\" '" +
+                                                out.string() + "' 2>&1");
+    EXPECT_EQ(r.exit_code, 0) << name << ": " << r.output;
+  }
+}
+
+using CliResult = testing_support::CommandResult;
+
+CliResult run_cli(const std::string& args) {
+  return testing_support::run_command(std::string(FURNACE_CLI) + " " + args + " 2>&1");
+}
+
+TEST_F(CyclesExportFile, CliExportsAndRefusesWithExitTwoWritingNothing) {
+  const std::string scenes = FURNACE_SCENE_DIR;
+  const fs::path out = dir_ / "out.py";
+  const CliResult ok = run_cli("export --scene " + scenes + "/rectangle_light.json --format cycles --spp 16 --max-depth 9 "
+                               "--emitter-grid 4 -o " + out.string());
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  const std::string text = read(out);
+  EXPECT_TRUE(contains(text, "    'spp': 16,\n")) << header_of(text);
+  EXPECT_TRUE(contains(text, "    'max_bounces': 7,\n")) << header_of(text);
+  EXPECT_TRUE(contains(text, "4x4 grid of cells")) << header_of(text);
+
+  const fs::path refused_out = dir_ / "refused.py";
+  for (const std::string& args :
+       {"--scene " + scenes + "/point_light.json --format cycles", "--scene " + scenes + "/disk_occluder.json "
+        "--format cycles --max-depth 1", "--scene " + scenes + "/disk_occluder.json --format cycles --seed 3",
+        "--scene " + scenes + "/disk_occluder.json --format cycles --emitter-grid 0",
+        "--scene " + scenes + "/disk_occluder.json --format cycles --sphere-subdivisions 8",
+        "--scene " + scenes + "/disk_occluder.json --format cycles --spp 0",
+        "--scene " + scenes + "/disk_occluder.json --format pbrt-v4 --emitter-grid 2"}) {
+    const CliResult r = run_cli("export " + args + " -o " + refused_out.string());
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.output;
+    EXPECT_TRUE(contains(r.output, "furnace: error:")) << args << ": " << r.output;
+    EXPECT_FALSE(fs::exists(refused_out)) << args;
+  }
+  const CliResult point = run_cli("export --scene " + scenes + "/point_light.json --format cycles -o " +
+                                  refused_out.string());
+  EXPECT_TRUE(contains(point.output, "point light")) << point.output;
+}
+
+}  // namespace
+}  // namespace furnace::exporter

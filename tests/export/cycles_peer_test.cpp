@@ -1,0 +1,333 @@
+// The Blender Cycles peer test: Cycles renders every built-in scene the
+// exporter can express, K times with distinct seeds (one Blender process per
+// scene), and `furnace check` must pass each (exit 0); what furnace found in
+// Cycles is kept as expected failures that must keep failing (a Blender that
+// fixes them shows up as an unexpected pass); deliberately wrong exports
+// rendered the same way must fail (exit 1), proving the check can tell. The
+// scenes too costly for the peer label's budget are tested by a second build
+// of this file (label slow). Finds Blender as blender_binary() says; without
+// one every test reports "skipped: no Blender (set FURNACE_BLENDER; tried …)"
+// and none fails.
+//
+// Each test prints one line: scene, K, spp, check's exit code, the worst
+// per-pixel |t| and the image-mean t, the image-mean bias the check detects
+// (from its output), and the test's wall time.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "core/scene.h"
+#include "tests/command.h"
+#include "tests/export/peer_support.h"
+#include "export/cycles.h"
+#include "export/pbrt_v4.h"
+
+namespace furnace::exporter {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Renders per scene and samples per pixel: with them the image-mean bias the
+// check detects stays below 0.7 % on every exportable built-in scene
+// (measured; the check reports it), inside the 1 % a verdict requires.
+constexpr int kRenders = 16;
+constexpr int kSpp = 128;
+// Seeds kFirstSeed .. kFirstSeed + kRenders − 1: Sobol-Burley is
+// Owen-scrambled by the seed, so distinct seeds make independent renders.
+constexpr int kFirstSeed = 1;
+constexpr int kCyclesThreads = 2;
+
+// Blender: FURNACE_BLENDER when set (used as given, so a wrong path fails
+// loudly rather than skipping), else `blender` on PATH.
+std::optional<fs::path> blender_binary() {
+  const char* forced = std::getenv("FURNACE_BLENDER");
+  if (forced && *forced) return fs::path(forced);
+  return peer::find_on_path("blender");
+}
+
+std::string no_blender_message() {
+  const char* path = std::getenv("PATH");
+  return fmt::format("skipped: no Blender (set FURNACE_BLENDER; tried `blender` on PATH={})", path ? path : "");
+}
+
+using testing_support::CommandResult;
+
+using peer::camel_case;
+using peer::check_renders;
+using peer::Diagnostics;
+using peer::named;
+using peer::quoted;
+using peer::read_text;
+using peer::run;
+using peer::scene_file;
+
+class CyclesPeer {
+ protected:
+  // Exports `scene_for_export` (its script edited by `edit_script`, if any),
+  // renders it K times in one Blender process, checks the images against
+  // `scene_file` at the depth a correct export of it needs, and returns
+  // check's exit code.
+  int render_and_check(const std::string& label, const fs::path& scene_file, const Scene& scene_for_export,
+                       const CyclesOptions& options,
+                       const std::function<std::string(const std::string&)>& edit_script = {}) {
+    const Scene scene = load_scene(scene_file);
+    const int check_depth = direct_lighting_is_complete(scene) ? 2 : kUnlimitedDepth;
+    const auto start = std::chrono::steady_clock::now();
+    const fs::path script = dir_ / "scene.py";
+    write_cycles(scene_for_export, options, script);
+    if (edit_script) {
+      const std::string edited = edit_script(read_text(script));
+      std::ofstream(script) << edited;
+    }
+    const CommandResult r = run(fmt::format(
+        "{} -b --factory-startup --python-exit-code 1 --python {} -- --seeds {}-{} --output {} --threads {}",
+        quoted(*blender_), quoted(script), kFirstSeed, kFirstSeed + kRenders - 1,
+        quoted(dir_ / "render_{seed}.exr"), kCyclesThreads));
+    if (r.exit_code != 0) {
+      ADD_FAILURE() << "Blender failed (exit " << r.exit_code << ") on " << script << ":\n" << r.output;
+      return -1;
+    }
+    std::vector<fs::path> images;
+    for (int i = 0; i < kRenders; ++i) images.push_back(dir_ / fmt::format("render_{}.exr", kFirstSeed + i));
+    const peer::CheckRun check = check_renders(scene_file, check_depth, images, dir_ / "check.json");
+    last_ = check.numbers;
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("%s", check.output.c_str());
+    std::printf("peer: cycles %s K=%d spp=%d check --max-depth %s exit %d, worst pixel |t| %.2f, image-mean t %.2f "
+                "(relative error %+.3g%%), detectable bias %.3g%%, wall %.1f s\n",
+                label.c_str(), kRenders, options.spp, depth_name(check_depth).c_str(), check.exit_code,
+                last_.worst_pixel_t, last_.image_mean_t, 100 * last_.image_mean_relative_error,
+                100 * last_.detectable_relative_bias, seconds);
+    return check.exit_code;
+  }
+
+  bool set_up(const std::string& name) {
+    blender_ = blender_binary();
+    if (!blender_) return false;
+    dir_ = fs::temp_directory_path() / fmt::format("furnace_cycles_peer_{}_{}", ::getpid(), name);
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    return true;
+  }
+  void tear_down(bool passed) {
+    if (dir_.empty()) return;
+    if (passed) fs::remove_all(dir_);
+    else std::printf("renders kept in %s\n", dir_.c_str());
+  }
+
+  std::optional<fs::path> blender_;
+  fs::path dir_;
+  Diagnostics last_;
+};
+
+// Scenes whose K renders alone would take most of the peer label's budget:
+// enclosure_box_rho99's paths average 100 bounces, and its 16 renders of 128
+// spp took 73 s on 2 threads (the rest of the label's scenes 3-10 s each).
+// They run in cycles_peer_slow_tests (label slow), built from this file with
+// FURNACE_PEER_COSTLY_SCENES=1.
+const std::set<std::string> kCostlyScenes = {"enclosure_box_rho99"};
+
+std::vector<std::string> exportable_scenes() {
+  return peer::exportable_scenes([](const Scene& s) { return !cycles_refusal(s); }, kCostlyScenes,
+                                 bool(FURNACE_PEER_COSTLY_SCENES));
+}
+
+class CyclesPeerScene : public CyclesPeer, public testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override {
+    if (!set_up(camel_case(GetParam()))) GTEST_SKIP() << no_blender_message();
+  }
+  void TearDown() override { tear_down(!HasFailure()); }
+};
+
+// What furnace finds in Cycles 3.4 with the export as it stands, each asserted
+// to keep failing, so a change on either side is noticed; reported in
+// docs/checking_cycles.md with its numbers.
+const std::map<std::string, std::string> kKnownCyclesDefects = {
+    {"near_contact",
+     "Cycles 3.4 lets light reach receiver points under blockers 1e-5 and 1e-4 above them (black strips, a disk: "
+     "up to 4.7x the reference; square lights that also hide part of the big light: |t| up to 279); image mean "
+     "+5.5 %"},
+    {"convex_furnace",
+     "about 0.2 % of the camera samples of pixels crossed by the sphere's silhouette land anywhere in the pixel "
+     "instead of within 0.01 px of its centre (the same with a flat 4096-gon, either filter or sampling pattern; "
+     "none at straight edges): image mean -0.0012 %, t -5.39"},
+};
+
+TEST_P(CyclesPeerScene, PassesFurnaceCheck) {
+  const fs::path file = scene_file(GetParam());
+  CyclesOptions options;
+  options.spp = kSpp;
+  const auto known = kKnownCyclesDefects.find(GetParam());
+  if (known != kKnownCyclesDefects.end()) {
+    std::printf("known Cycles defect, expected to FAIL: %s\n", known->second.c_str());
+    EXPECT_EQ(render_and_check(GetParam(), file, load_scene(file), options), 1);
+    return;
+  }
+  EXPECT_EQ(render_and_check(GetParam(), file, load_scene(file), options), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(BuiltIn, CyclesPeerScene, testing::ValuesIn(exportable_scenes()),
+                         [](const testing::TestParamInfo<std::string>& info) { return camel_case(info.param); });
+
+#if !FURNACE_PEER_COSTLY_SCENES
+class CyclesPeerScript : public CyclesPeer, public testing::Test {
+ protected:
+  void SetUp() override {
+    if (!set_up("Script")) GTEST_SKIP() << no_blender_message();
+  }
+  void TearDown() override { tear_down(!HasFailure()); }
+};
+
+// The script's own contract: bad arguments exit 2 with one line naming the
+// argument, before anything is rendered or written.
+TEST_F(CyclesPeerScript, BadArgumentsExitTwoAndWriteNothing) {
+  const fs::path script = dir_ / "scene.py";
+  write_cycles(load_scene(scene_file("rectangle_light")), {}, script);
+  for (const std::string& args :
+       {fmt::format("--seeds 5-1 --output {}", quoted(dir_ / "r_{seed}.exr")),
+        fmt::format("--seeds 1-2 --output {}", quoted(dir_ / "r.exr")),
+        fmt::format("--seed 1 --spp 0 --output {}", quoted(dir_ / "r.exr")),
+        fmt::format("--seed 1 --output {}", quoted(dir_ / "missing" / "r.exr"))}) {
+    const CommandResult r =
+        run(fmt::format("{} -b --factory-startup --python-exit-code 1 --python {} -- {}", quoted(*blender_),
+                        quoted(script), args));
+    EXPECT_EQ(r.exit_code, 2) << args << ":\n" << r.output;
+    EXPECT_NE(r.output.find("error: --"), std::string::npos) << args << ":\n" << r.output;
+  }
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir_)) left.push_back(e.path().filename().string());
+  EXPECT_EQ(left, std::vector<std::string>{"scene.py"});
+}
+
+// An export that is correct in every respect but one tessellation choice
+// Cycles renders wrongly: expected to fail, its numbers printed.
+struct Finding {
+  std::string name;
+  std::string scene;
+  std::string what;
+  std::function<void(CyclesOptions&)> choose;
+};
+
+void PrintTo(const Finding& f, std::ostream* os) { *os << f.name << " (" << f.scene << ")"; }
+
+std::vector<Finding> findings() {
+  return {
+      {"RectangleLightAsTwoTriangles", "rectangle_light",
+       "a rectangle light exported as its exact two triangles renders too dark (the 16x16 grid passes)",
+       [](CyclesOptions& o) {
+         o.emitter_grid = 1;
+         o.spp = kSpp;
+       }},
+      {"SphereLight81920Triangles", "sphere_light",
+       "a sphere light as an 81 920-triangle icosphere renders too dark at 512 spp",
+       [](CyclesOptions& o) {
+         o.sphere_subdivisions = 6;
+         o.spp = 512;
+       }},
+  };
+}
+
+class CyclesPeerFinding : public CyclesPeer, public testing::TestWithParam<Finding> {
+ protected:
+  void SetUp() override {
+    if (!set_up(GetParam().name)) GTEST_SKIP() << no_blender_message();
+  }
+  void TearDown() override { tear_down(!HasFailure()); }
+};
+
+TEST_P(CyclesPeerFinding, FailsFurnaceCheck) {
+  const Finding& f = GetParam();
+  const fs::path file = scene_file(f.scene);
+  CyclesOptions options;
+  f.choose(options);
+  std::printf("known Cycles defect, expected to FAIL: %s\n", f.what.c_str());
+  EXPECT_EQ(render_and_check(f.name + " (" + f.scene + ")", file, load_scene(file), options), 1);
+  std::printf("finding: %s: image mean %+.3f %% (t %.2f), %d pixels fail, worst pixel |t| %.1f\n", f.name.c_str(),
+              100 * last_.image_mean_relative_error, last_.image_mean_t, last_.failed_pixels, last_.worst_pixel_t);
+}
+
+INSTANTIATE_TEST_SUITE_P(Known, CyclesPeerFinding, testing::ValuesIn(findings()),
+                         [](const testing::TestParamInfo<Finding>& info) { return info.param.name; });
+
+// A deliberately wrong export: the scene as exported is altered, or its
+// script, while the check compares with the unaltered scene.
+struct Control {
+  std::string name;
+  std::string scene;
+  std::function<void(Scene&)> break_scene;
+  std::function<std::string(const std::string&)> break_script;
+};
+
+void PrintTo(const Control& c, std::ostream* os) { *os << c.name << " (" << c.scene << ")"; }
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  if (at == std::string::npos) throw std::runtime_error("the script has no '" + from + "'");
+  return text.replace(at, from.size(), to);
+}
+
+std::vector<Control> controls() {
+  return {
+      {"LightRadiancePlusOnePercent", "disk_occluder",
+       [](Scene& s) { named(s, "light").emitted_radiance *= 1.01; }, {}},
+      // Every one-sided emitter of the scene emits from its back too, as
+      // Cycles 3.4's Emission shader does without the Backfacing mix.
+      {"TwoSidedEmission", "back_facing_emitters",
+       [](Scene& s) {
+         for (Object& o : s.objects)
+           if (o.is_emitter()) o.two_sided = true;
+       },
+       {}},
+      // Blender's default pixel filter, Blackman-Harris 1.5 px wide, instead of
+      // pixel centres: it blurs the sharp edge of the disk light seen in the
+      // mirror (on polygon_occluder's soft shadows it fails only narrowly,
+      // image-mean t -3.38 against 3.29, so that scene is not the control).
+      {"DefaultPixelFilter", "mirror_disk", [](Scene&) {},
+       [](const std::string& script) {
+         return replaced(script, "FILTER = ('BLACKMAN_HARRIS', 0.01)", "FILTER = ('BLACKMAN_HARRIS', 1.5)");
+       }},
+  };
+}
+
+class CyclesPeerControl : public CyclesPeer, public testing::TestWithParam<Control> {
+ protected:
+  void SetUp() override {
+    if (!set_up(GetParam().name)) GTEST_SKIP() << no_blender_message();
+  }
+  void TearDown() override { tear_down(!HasFailure()); }
+};
+
+TEST_P(CyclesPeerControl, FailsFurnaceCheck) {
+  const Control& c = GetParam();
+  const fs::path file = scene_file(c.scene);
+  Scene wrong = load_scene(file);
+  c.break_scene(wrong);
+  CyclesOptions options;
+  options.spp = kSpp;
+  EXPECT_EQ(render_and_check(c.name + " (" + c.scene + ")", file, wrong, options, c.break_script), 1);
+}
+
+INSTANTIATE_TEST_SUITE_P(Negative, CyclesPeerControl, testing::ValuesIn(controls()),
+                         [](const testing::TestParamInfo<Control>& info) { return info.param.name; });
+#endif
+
+}  // namespace
+}  // namespace furnace::exporter

@@ -1,0 +1,353 @@
+// The pbrt-v4 exporter without pbrt: which scenes it refuses and why, the
+// facts it writes (depth mapping, scale = Le, constant spectra, camera
+// orientation, disk rotations), and that its output appears atomically.
+#include "tests/command.h"
+#include "export/pbrt_v4.h"
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/scene.h"
+
+namespace furnace::exporter {
+namespace {
+
+namespace fs = std::filesystem;
+
+Scene builtin(const std::string& name) { return load_scene(fs::path(FURNACE_SCENE_DIR) / (name + ".json")); }
+
+std::string refusal_of(const Scene& scene) { return pbrt_v4_refusal(scene).value_or(""); }
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// A scene with a mirror floor seen straight down by the camera, and a light.
+Scene mirror_scene() {
+  return parse_scene(R"({
+    "name": "mirror_test",
+    "camera": {"type": "orthographic", "center": [0, 0, 1], "forward": [0, 0, -1], "up": [0, 1, 0],
+               "size": [1, 1], "resolution": [4, 4]},
+    "objects": [
+      {"name": "floor", "shape": {"type": "rectangle", "corner": [-1, -1, 0], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0]},
+       "material": {"type": "mirror", "albedo": 0.8}},
+      {"name": "lamp", "shape": {"type": "disk", "center": [0, 0, 2], "normal": [0, 0, -1], "radius": 0.5},
+       "emission": 3.0}
+    ]})",
+                     "mirror_test.json");
+}
+
+TEST(PbrtV4Export, RefusesExactlyTheImageEnvironmentsAndGlossyScenesAmongTheBuiltInScenes) {
+  std::set<std::string> refused;
+  for (const auto& entry : fs::directory_iterator(FURNACE_SCENE_DIR)) {
+    if (entry.path().extension() != ".json") continue;
+    const Scene scene = load_scene(entry.path());
+    if (pbrt_v4_refusal(scene)) refused.insert(scene.name);
+  }
+  EXPECT_EQ(refused, (std::set<std::string>{"environment_map", "environment_map_tilted", "glossy_environment",
+                                            "glossy_sphere_light"}));
+}
+
+TEST(PbrtV4Export, ImageEnvironmentRefusalNamesSceneAndFeature) {
+  const Scene scene = builtin("environment_map");
+  const std::string reason = refusal_of(scene);
+  EXPECT_TRUE(contains(reason, "scene 'environment_map'")) << reason;
+  EXPECT_TRUE(contains(reason, "environment map")) << reason;
+  EXPECT_TRUE(contains(reason, "octahedral")) << reason;
+  try {
+    export_pbrt_v4(scene, {});
+    ADD_FAILURE() << "export_pbrt_v4 accepted an image environment";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), reason);
+  }
+}
+
+TEST(PbrtV4Export, RefusesPhong) {
+  Scene scene = builtin("disk_occluder");
+  scene.objects[0].material = {BsdfType::kPhong, 0.5, 10};
+  const std::string reason = refusal_of(scene);
+  EXPECT_TRUE(contains(reason, "'receiver'")) << reason;
+  EXPECT_TRUE(contains(reason, "Phong")) << reason;
+}
+
+TEST(PbrtV4Export, BlackPhongIsBlackDiffuse) {
+  Scene scene = builtin("disk_occluder");
+  scene.objects[2].material = {BsdfType::kPhong, 0, 10};
+  EXPECT_FALSE(pbrt_v4_refusal(scene));
+}
+
+TEST(PbrtV4Export, AcceptsAMirrorMetOnlyAtNormalIncidenceAndSaysWhatItMeans) {
+  const Scene scene = mirror_scene();
+  ASSERT_FALSE(pbrt_v4_refusal(scene)) << refusal_of(scene);
+  const std::string text = export_pbrt_v4(scene, {});
+  EXPECT_TRUE(contains(text, "Material \"conductor\" \"spectrum reflectance\" [300 0.8 900 0.8] \"float roughness\" 0"))
+      << text;
+  EXPECT_TRUE(contains(text, "at normal\n#   incidence only")) << text;
+}
+
+TEST(PbrtV4Export, RefusesMirrorsMetAtObliqueIncidence) {
+  {
+    Scene tilted = mirror_scene();
+    std::get<Rectangle>(tilted.objects[0].shape).edge_u = {2, 0, 0.2};
+    const std::string reason = refusal_of(tilted);
+    EXPECT_TRUE(contains(reason, "'floor'") && contains(reason, "not perpendicular")) << reason;
+  }
+  {
+    Scene curved = mirror_scene();
+    curved.objects[0].shape = Sphere{{0, 0, -1}, 0.5};
+    const std::string reason = refusal_of(curved);
+    EXPECT_TRUE(contains(reason, "'floor'") && contains(reason, "sphere")) << reason;
+  }
+  {
+    Scene lit = mirror_scene();
+    lit.objects[1].material.albedo = 0.5;  // the lamp reflects light onto the mirror obliquely
+    const std::string reason = refusal_of(lit);
+    EXPECT_TRUE(contains(reason, "'lamp'") && contains(reason, "oblique")) << reason;
+  }
+  {
+    Scene white = mirror_scene();
+    white.objects[0].material.albedo = 1.0;  // pbrt clamps a conductor's reflectance to 0.9999
+    const std::string reason = refusal_of(white);
+    EXPECT_TRUE(contains(reason, "'floor'") && contains(reason, "0.9999")) << reason;
+  }
+}
+
+TEST(PbrtV4Export, MaxDepthIsSegmentsMinusOne) {
+  EXPECT_EQ(pbrt_max_depth(1), 0);
+  EXPECT_EQ(pbrt_max_depth(2), 1);
+  EXPECT_EQ(pbrt_max_depth(6), 5);
+  EXPECT_EQ(pbrt_max_depth(kUnlimitedDepth), kUnlimitedDepth - 1);
+  const Scene scene = builtin("enclosure_box_rho5");
+  PbrtV4Options options;
+  options.max_segments = 6;
+  const std::string text = export_pbrt_v4(scene, options);
+  EXPECT_TRUE(contains(text, "Integrator \"path\" \"integer maxdepth\" 5\n")) << text;
+  EXPECT_TRUE(contains(text, "--max-depth 6 ")) << text;
+  const std::string unlimited = export_pbrt_v4(scene, {});
+  EXPECT_TRUE(contains(unlimited, "Integrator \"path\" \"integer maxdepth\" 2147483646\n")) << unlimited;
+  EXPECT_TRUE(contains(unlimited, "--max-depth unlimited ")) << unlimited;
+  options.max_segments = 0;
+  EXPECT_THROW(export_pbrt_v4(scene, options), Error);
+}
+
+TEST(PbrtV4Export, DirectLightingIsCompleteOnlyWithOnePlanarLambertianReflector) {
+  for (const char* name : {"disk_occluder", "environment_blocker", "point_and_area", "three_lights", "sphere_light"})
+    EXPECT_TRUE(direct_lighting_is_complete(builtin(name))) << name;
+  for (const char* name : {"enclosure_box", "enclosure_sphere", "white_furnace", "convex_furnace", "mirror_disk"})
+    EXPECT_FALSE(direct_lighting_is_complete(builtin(name))) << name;
+  PbrtV4Options options;
+  EXPECT_EQ(check_max_depth(builtin("environment_blocker"), options), 2);
+  EXPECT_EQ(check_max_depth(builtin("mirror_disk"), options), kUnlimitedDepth);
+  options.max_segments = 1;  // emission only: not direct lighting
+  EXPECT_EQ(check_max_depth(builtin("disk_occluder"), options), 1);
+  const std::string text = export_pbrt_v4(builtin("environment_blocker"), {});
+  EXPECT_TRUE(contains(text, "--max-depth 2 ")) << text;
+  EXPECT_TRUE(contains(text, "which is direct lighting here")) << text;
+}
+
+TEST(PbrtV4Export, EmittersAreScaledIlluminantsAndReflectancesConstantSpectra) {
+  const std::string text = export_pbrt_v4(builtin("disk_occluder"), {});
+  EXPECT_TRUE(contains(text, "AreaLightSource \"diffuse\" \"float scale\" 4\n")) << text;
+  EXPECT_TRUE(contains(text, "Material \"diffuse\" \"spectrum reflectance\" [300 0.5 900 0.5]\n")) << text;
+  EXPECT_TRUE(contains(text, "Material \"diffuse\" \"spectrum reflectance\" [300 0 900 0]\n")) << text;
+  const std::string statements = text.substr(text.find("\nOption "));  // past the opening comments
+  EXPECT_FALSE(contains(statements, "\"rgb L\"")) << text;
+  EXPECT_FALSE(contains(statements, "\"rgb reflectance\"")) << text;
+
+  const std::string point = export_pbrt_v4(builtin("point_light"), {});
+  EXPECT_TRUE(contains(point, "LightSource \"point\" \"float scale\" 10 \"point3 from\" [0 0 2]\n")) << point;
+  const std::string environment = export_pbrt_v4(builtin("environment_blocker"), {});
+  EXPECT_TRUE(contains(environment, "LightSource \"infinite\" \"float scale\" 1.5\n")) << environment;
+  const std::string enclosure = export_pbrt_v4(builtin("enclosure_sphere"), {});
+  EXPECT_TRUE(contains(enclosure, "AreaLightSource \"diffuse\" \"float scale\" 1.5 \"bool twosided\" true\n"))
+      << enclosure;
+}
+
+TEST(PbrtV4Export, FilmSamplerAndPixelCentres) {
+  const std::string text = export_pbrt_v4(builtin("disk_occluder"), {});
+  EXPECT_TRUE(contains(text, "Option \"disablepixeljitter\" true\n")) << text;
+  EXPECT_TRUE(contains(text, "\"integer xresolution\" 32 \"integer yresolution\" 32 \"bool savefp16\" false")) << text;
+  EXPECT_TRUE(contains(text, "\"string sensor\" \"cie1931\" \"float iso\" 100")) << text;
+  EXPECT_TRUE(contains(text, "Sampler \"independent\" \"integer pixelsamples\" 256\n")) << text;
+  EXPECT_FALSE(contains(text, "integer seed")) << "no seed unless asked for: pbrt --seed must choose";
+  PbrtV4Options options;
+  options.spp = 64;
+  options.seed = 7;
+  const std::string seeded = export_pbrt_v4(builtin("disk_occluder"), options);
+  EXPECT_TRUE(contains(seeded, "Sampler \"independent\" \"integer pixelsamples\" 64 \"integer seed\" 7\n")) << seeded;
+}
+
+TEST(PbrtV4Export, CameraRightIsForwardCrossUp) {
+  const std::string text = export_pbrt_v4(builtin("enclosure_sphere"), {});
+  // furnace: center [0.1, -0.05, 0.3], forward ∝ [0.2, 0.1, -1], up [0, 1, 0], size 1.2 x 1.2.
+  const size_t scale = text.find("\nScale -1 1 1\n");
+  const size_t look_at = text.find("\nLookAt ");
+  ASSERT_NE(scale, std::string::npos) << text;
+  ASSERT_NE(look_at, std::string::npos) << text;
+  EXPECT_LT(scale, look_at) << "the mirror Scale must precede LookAt to flip the camera's x axis";
+  std::istringstream line(text.substr(look_at + 8));
+  Vec3 eye, look, up;
+  line >> eye.x >> eye.y >> eye.z >> look.x >> look.y >> look.z >> up.x >> up.y >> up.z;
+  const Vec3 forward = normalize(Vec3{0.2, 0.1, -1});
+  EXPECT_EQ(eye, (Vec3{0.1, -0.05, 0.3}));
+  EXPECT_NEAR(length(look - eye - forward), 0, 1e-15);
+  EXPECT_EQ(up, (Vec3{0, 1, 0}));
+  EXPECT_TRUE(contains(text, "Camera \"orthographic\" \"float screenwindow\" [-0.6 0.6 -0.6 0.6]")) << text;
+}
+
+// The Transform of the first disk in `text`, as pbrt reads it: four columns.
+std::vector<Vec3> disk_columns(const std::string& text) {
+  const std::regex transform(R"(Transform \[([^\]]*)\]\nShape "disk")");
+  std::smatch m;
+  if (!std::regex_search(text, m, transform)) return {};
+  std::istringstream numbers(m[1].str());
+  std::vector<Vec3> columns(4);
+  for (int i = 0; i < 4; ++i) {
+    double w = -1;
+    numbers >> columns[i].x >> columns[i].y >> columns[i].z >> w;
+    if (!numbers || w != (i == 3 ? 1 : 0)) return {};
+  }
+  return columns;
+}
+
+TEST(PbrtV4Export, DisksArePlacedByProperRotationsTakingZToTheirNormal) {
+  // enclosure_blockers' disk_blocker: normal ∝ (0.3, -0.2, 1), centre (0.4, 0.3, 0.1).
+  const Scene scene = builtin("enclosure_blockers");
+  const std::string text = export_pbrt_v4(scene, {});
+  const std::vector<Vec3> c = disk_columns(text);
+  ASSERT_EQ(c.size(), 4u) << text;
+  const Vec3 normal = normalize(Vec3{0.3, -0.2, 1});
+  EXPECT_NEAR(length(c[2] - normal), 0, 1e-15);
+  EXPECT_NEAR(dot(cross(c[0], c[1]), c[2]), 1, 1e-15) << "determinant +1: a rotation, not a reflection";
+  EXPECT_NEAR(dot(c[0], c[1]), 0, 1e-15);
+  EXPECT_NEAR(length(c[0]), 1, 1e-15);
+  EXPECT_EQ(c[3], (Vec3{0.4, 0.3, 0.1}));
+  // disk_occluder's light faces -z.
+  const std::vector<Vec3> light = disk_columns(export_pbrt_v4(builtin("disk_occluder"), {}));
+  ASSERT_EQ(light.size(), 4u);
+  EXPECT_EQ(light[2], (Vec3{0, 0, -1}));
+  EXPECT_NEAR(dot(cross(light[0], light[1]), light[2]), 1, 1e-15);
+}
+
+TEST(PbrtV4Export, RectanglesKeepTheirFrontNormal) {
+  // enclosure_box's ceiling: corner (-1,-1,1), edge_u (0,2,0), edge_v (2,0,0),
+  // front normal cross(edge_u, edge_v) = -z; its triangles must keep it.
+  const std::string text = export_pbrt_v4(builtin("enclosure_box"), {});
+  const size_t ceiling = text.find("# ceiling\n");
+  ASSERT_NE(ceiling, std::string::npos);
+  const std::regex mesh(R"("point3 P" \[([^\]]*)\] "integer indices" \[0 1 2  0 2 3\])");
+  std::smatch m;
+  const std::string rest = text.substr(ceiling);
+  ASSERT_TRUE(std::regex_search(rest, m, mesh)) << rest;
+  std::istringstream numbers(m[1].str());
+  Vec3 p[4];
+  for (Vec3& v : p) numbers >> v.x >> v.y >> v.z;
+  EXPECT_EQ(normalize(cross(p[1] - p[0], p[2] - p[0])), (Vec3{0, 0, -1}));
+  EXPECT_EQ(normalize(cross(p[2] - p[0], p[3] - p[0])), (Vec3{0, 0, -1}));
+}
+
+TEST(PbrtV4Export, FileOpensWithTheFactsItReliesOn) {
+  const std::string text = export_pbrt_v4(builtin("disk_occluder"), {});
+  EXPECT_EQ(text.rfind("# Scene 'disk_occluder'", 0), 0u) << text;
+  for (const char* fact : {"disablepixeljitter", "savefp16", "illuminant", "maxdepth M traces M + 1 path segments",
+                           "Russian roulette", "Scale -1 1 1 before LookAt", "--seed"})
+    EXPECT_TRUE(contains(text.substr(0, text.find("\nOption ")), fact)) << fact;
+}
+
+class PbrtV4ExportFile : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("furnace_export_test_" + std::to_string(::getpid()) + "_" +
+            testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::vector<std::string> entries() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+    return names;
+  }
+  fs::path dir_;
+};
+
+TEST_F(PbrtV4ExportFile, WritesTheWholeTextAndNoTemporaryFile) {
+  const Scene scene = builtin("disk_occluder");
+  const fs::path out = dir_ / "scene.pbrt";
+  write_pbrt_v4(scene, {}, out);
+  std::ifstream in(out);
+  const std::string written((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(written, export_pbrt_v4(scene, {}));
+  EXPECT_EQ(entries(), std::vector<std::string>{"scene.pbrt"});
+}
+
+TEST_F(PbrtV4ExportFile, RefusalLeavesAnExistingFileUntouched) {
+  const fs::path out = dir_ / "scene.pbrt";
+  std::ofstream(out) << "previous contents";
+  EXPECT_THROW(write_pbrt_v4(builtin("environment_map"), {}, out), Error);
+  std::ifstream in(out);
+  const std::string kept((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(kept, "previous contents");
+  EXPECT_EQ(entries(), std::vector<std::string>{"scene.pbrt"});
+}
+
+TEST_F(PbrtV4ExportFile, UnwritableDestinationThrowsNamingItAndLeavesNothing) {
+  const fs::path out = dir_ / "missing_directory" / "scene.pbrt";
+  try {
+    write_pbrt_v4(builtin("disk_occluder"), {}, out);
+    ADD_FAILURE() << "wrote into a missing directory";
+  } catch (const Error& e) {
+    EXPECT_TRUE(contains(e.what(), out.string())) << e.what();
+  }
+  EXPECT_TRUE(entries().empty());
+}
+
+using CliResult = testing_support::CommandResult;
+
+CliResult run_cli(const std::string& args) {
+  return testing_support::run_command(std::string(FURNACE_CLI) + " " + args + " 2>&1");
+}
+
+TEST_F(PbrtV4ExportFile, CliExportsAndRefusesWithExitTwo) {
+  const std::string scenes = FURNACE_SCENE_DIR;
+  const fs::path out = dir_ / "out.pbrt";
+  const CliResult ok = run_cli("export --scene " + scenes + "/mirror_disk.json --format pbrt-v4 --spp 16 --seed 3 "
+                               "--max-depth 9 -o " + out.string());
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  std::ifstream in(out);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_TRUE(contains(text, "\"integer pixelsamples\" 16 \"integer seed\" 3\n")) << text;
+  EXPECT_TRUE(contains(text, "\"integer maxdepth\" 8\n")) << text;
+  EXPECT_TRUE(contains(text, "\"string filename\" \"out.exr\"")) << text;
+
+  const CliResult unlimited =
+      run_cli("export --scene " + scenes + "/enclosure_box.json --format pbrt-v4 --max-depth unlimited -o " +
+              out.string());
+  EXPECT_EQ(unlimited.exit_code, 0) << unlimited.output;
+
+  const fs::path refused_out = dir_ / "refused.pbrt";
+  const CliResult refused =
+      run_cli("export --scene " + scenes + "/environment_map.json --format pbrt-v4 -o " + refused_out.string());
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_TRUE(contains(refused.output, "environment_map") && contains(refused.output, "octahedral")) << refused.output;
+  EXPECT_FALSE(fs::exists(refused_out));
+
+  const CliResult bad_format =
+      run_cli("export --scene " + scenes + "/disk_occluder.json --format mitsuba -o " + refused_out.string());
+  EXPECT_NE(bad_format.exit_code, 0) << bad_format.output;
+  EXPECT_TRUE(contains(bad_format.output, "mitsuba")) << bad_format.output;
+  EXPECT_FALSE(fs::exists(refused_out));
+}
+
+}  // namespace
+}  // namespace furnace::exporter
