@@ -1,7 +1,9 @@
 // The Cycles exporter without Blender: which scenes it refuses and why, the
 // facts it writes (depth mapping, sampling, filter, film, one-sidedness,
-// camera), the tessellations (vertex counts, equal area, facing, closure)
-// and their stated errors, atomic output and the CLI's exit codes.
+// camera), every material as itself, the shader node graphs the script
+// builds (run without Blender by cycles_node_graph.py), the tessellations
+// (vertex counts, equal area, facing, closure) and their stated errors,
+// atomic output and the CLI's exit codes.
 #include "export/cycles.h"
 
 #include <gtest/gtest.h>
@@ -20,6 +22,8 @@
 #include <string>
 #include <tuple>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "analytic/polygon.h"
 #include "analytic/reference.h"
@@ -615,6 +619,64 @@ TEST_F(CyclesExportFile, ScriptIsValidPythonWhenPythonIsAvailable) {
                                                 out.string() + "' 2>&1");
     EXPECT_EQ(r.exit_code, 0) << name << ": " << r.output;
   }
+}
+
+// The shader graph the script's builder must make for `o` (in the notation
+// of cycles_node_graph.py), stated from the scene: the surface BSDF of
+// expected_material() unless the object is a black emitter, the emission
+// (one-sided: mixed with nothing by Geometry Backfacing), their sum when both.
+nlohmann::json expected_graph(const Object& o) {
+  using nlohmann::json;
+  const std::optional<ScriptMaterial> m = expected_material(o);
+  if (!m) return "refused";
+  json surface = nullptr, emitted = nullptr;
+  if (m->albedo > 0 || !o.is_emitter())
+    surface = m->mirror ? json::array({"Glossy", "SHARP", m->albedo}) : json::array({"Diffuse", m->albedo, 0.0});
+  if (o.is_emitter()) {
+    emitted = json::array({"Emission", 1.0, o.emitted_radiance});
+    if (!o.two_sided) emitted = json::array({"Mix", json::array({"Geometry", "Backfacing"}), emitted, nullptr});
+  }
+  if (surface.is_null()) return emitted;
+  if (emitted.is_null()) return surface;
+  return json::array({"Add", surface, emitted});
+}
+
+// Scenes that together hold every kind of graph: a Lambertian receiver, a
+// black occluder and one-sided disk light (disk_occluder), a mirror
+// (mirror_disk), two-sided reflecting emitters (enclosure_sphere), one-sided
+// rectangle, triangle and disk emitters (back_facing_emitters) and a
+// constant environment (environment_blocker). Each run of the script takes
+// seconds of Python, so not every scene.
+TEST_F(CyclesExportFile, TheBuilderMakesEachMaterialsNodeGraphAsTheSceneStatesIt) {
+  if (testing_support::run_command("python3 -c pass 2>&1").exit_code != 0) GTEST_SKIP() << "skipped: no python3";
+  CyclesOptions small;  // the graphs do not depend on the meshes: keep the scripts short
+  small.sphere_subdivisions = 0;
+  small.emitter_grid = 1;
+  int graphs = 0, one_sided = 0;
+  for (const char* name :
+       {"disk_occluder", "mirror_disk", "enclosure_sphere", "back_facing_emitters", "environment_blocker"}) {
+    const Scene scene = builtin(name);
+    const fs::path script = dir_ / (std::string(name) + ".py");
+    write_cycles(scene, small, script);
+    const auto r = testing_support::run_command("python3 '" + std::string(FURNACE_CYCLES_NODE_GRAPH_PY) + "' '" +
+                                                script.string() + "' 2>&1");
+    ASSERT_EQ(r.exit_code, 0) << name << ": " << r.output;
+    const nlohmann::json actual = nlohmann::json::parse(r.output.substr(r.output.find("\n{") + 1));
+    ASSERT_EQ(actual["materials"].size(), scene.objects.size()) << name << ": " << r.output;
+    for (const Object& o : scene.objects) {
+      EXPECT_EQ(actual["materials"][o.name], expected_graph(o)) << name << ": " << o.name;
+      ++graphs;
+      if (o.is_emitter() && !o.two_sided) {
+        // Control: the same emitter stated two-sided has another graph.
+        Object two_sided = o;
+        two_sided.two_sided = true;
+        EXPECT_NE(actual["materials"][o.name], expected_graph(two_sided)) << name << ": " << o.name;
+        ++one_sided;
+      }
+    }
+    EXPECT_EQ(actual["world"], nlohmann::json::array({"Background", 1.0, scene.environment.radiance})) << name;
+  }
+  std::printf("%d material graphs compared (%d one-sided emitters)\n", graphs, one_sided);
 }
 
 using CliResult = testing_support::CommandResult;
