@@ -12,7 +12,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <optional>
 #include <regex>
 #include <set>
@@ -25,6 +24,7 @@
 #include "core/error.h"
 #include "core/scene.h"
 #include "export/scene_facts.h"
+#include "tests/export/material_coverage.h"
 
 namespace furnace::exporter {
 namespace {
@@ -138,15 +138,12 @@ std::vector<std::pair<std::string, std::string>> written_materials(const std::st
 }
 
 TEST(PbrtV4Export, EveryMaterialOfTheBuiltInScenesIsExportedAsItselfOrRefusedNamingIt) {
-  std::map<std::string, int> written, refused;  // reflecting objects per type
+  MaterialCoverage coverage;
   for (const auto& entry : fs::directory_iterator(FURNACE_SCENE_DIR)) {
     if (entry.path().extension() != ".json") continue;
     const Scene scene = load_scene(entry.path());
     if (const auto refusal = pbrt_v4_refusal(scene)) {
-      // Count the objects whose material the refusal names by its field.
-      for (size_t i = 0; i < scene.objects.size(); ++i)
-        if (contains(*refusal, fmt::format("objects[{}].material.type", i)))
-          ++refused[bsdf_type_name(scene.objects[i].material.type)];
+      coverage.count_refusal(scene, *refusal);
       continue;
     }
     const auto materials = written_materials(export_pbrt_v4(scene, {}));
@@ -157,17 +154,10 @@ TEST(PbrtV4Export, EveryMaterialOfTheBuiltInScenesIsExportedAsItselfOrRefusedNam
       const std::optional<std::string> expected = expected_material(o.material);
       ASSERT_TRUE(expected) << scene.name << ": " << o.name << " is written although its material cannot be";
       EXPECT_EQ(materials[i].second, *expected) << scene.name << ": " << o.name;
-      if (o.material.albedo > 0) ++written[bsdf_type_name(o.material.type)];
+      coverage.count_written(o);
     }
   }
-  // The built-in scenes hold reflecting Lambertian, mirror and Phong
-  // objects; the first two are written, Phong refused by name.
-  EXPECT_GT(written["lambertian"], 0);
-  EXPECT_GT(written["mirror"], 0);
-  EXPECT_EQ(written["phong"], 0);
-  EXPECT_GT(refused["phong"], 0);
-  std::printf("reflecting objects written: lambertian %d, mirror %d; refused by name: phong %d\n",
-              written["lambertian"], written["mirror"], refused["phong"]);
+  coverage.expect_built_in_coverage("pbrt-v4");
 }
 
 // Negative control of the test above: a mirror written as a diffuse surface
