@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <utility>
 #include <variant>
 
 #include <fmt/format.h>
@@ -29,14 +30,14 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/overloaded.h"
-#include "export/pbrt_v4.h"
+#include "export/cycles_scene.h"
+#include "export/scene_facts.h"
+#include "export/text.h"
 
 namespace furnace::exporter {
 
 namespace {
 
-// Shortest round-trip decimal (Python reads it back exactly); +0.0 writes -0 as 0.
-std::string num(double x) { return fmt::format("{}", x + 0.0); }
 std::string tuple(const Vec3& p) { return fmt::format("({}, {}, {})", num(p.x), num(p.y), num(p.z)); }
 // A Python string literal holding `text` (repr-style escapes).
 std::string python_string(const std::string& text) {
@@ -47,12 +48,6 @@ std::string python_string(const std::string& text) {
     else out += char(c);
   }
   return out + "'";
-}
-// A name on one comment line: a line break in it would end the comment.
-std::string comment_text(std::string name) {
-  std::replace(name.begin(), name.end(), '\n', ' ');
-  std::replace(name.begin(), name.end(), '\r', ' ');
-  return name;
 }
 
 // Blender's property limits (bl_rna hard_min / hard_max, Blender 3.4.1).
@@ -78,8 +73,6 @@ constexpr int kMaxEmitterGrid = 256;
 // pixel centre (Cycles widens a Box filter to 1 px whatever its width).
 constexpr const char* kFilterType = "BLACKMAN_HARRIS";
 constexpr double kFilterWidth = 0.01;
-
-bool reflects(const Object& o) { return o.material.albedo > 0; }
 
 double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5 * length(cross(b - a, c - a)); }
 
@@ -207,6 +200,40 @@ CyclesMesh sphere_mesh(const Sphere& sp, int subdivisions) {
   return mesh;
 }
 
+// How the exported script renders one object's material, or the reason it
+// cannot (without the scene's name). The Cycles export's only branch on the
+// material type: one case per BsdfType, no default. The script's builder
+// (cycles_scene.py) decides nothing: it makes a Glossy SHARP BSDF where
+// `mirror` is true and a Diffuse BSDF otherwise.
+struct CyclesMaterial {
+  bool mirror = false;                  // Glossy BSDF, distribution SHARP: an ideal mirror of reflectance ρ
+  std::optional<std::string> refusal;   // set when refused
+};
+CyclesMaterial diffuse_bsdf() { return {false, std::nullopt}; }  // Diffuse BSDF of colour ρ, roughness 0
+CyclesMaterial glossy_sharp() { return {true, std::nullopt}; }
+CyclesMaterial refused(std::string reason) { return {false, std::move(reason)}; }
+
+CyclesMaterial cycles_material(const Scene& scene, size_t index) {
+  const Object& o = scene.objects[index];
+  // Black, whatever the type (reflects() decides it per type): the builder's
+  // black Diffuse BSDF reflects nothing either.
+  if (!reflects(o.material)) return diffuse_bsdf();
+  switch (o.material.type) {
+    case BsdfType::kLambertian:
+      return diffuse_bsdf();
+    case BsdfType::kMirror:
+      if (!is_planar(o.shape))
+        return refused(fmt::format("the mirror {} is a sphere, which Cycles would render as a faceted polyhedron "
+                                   "whose flat facets reflect along other directions than the sphere",
+                                   object_material_text(scene, index)));
+      return glossy_sharp();
+    case BsdfType::kPhong:
+      return refused(fmt::format("the object {} has a normalised Phong BSDF, which Cycles does not have",
+                                 object_material_text(scene, index)));
+  }
+  unknown_bsdf_type(o.material.type);
+}
+
 // The reason Cycles (as exported here) cannot express `scene`, without the scene's name.
 std::optional<std::string> refusal_reason(const Scene& scene) {
   if (scene.environment.map)
@@ -218,15 +245,8 @@ std::optional<std::string> refusal_reason(const Scene& scene) {
     return fmt::format("its point light '{}' would need Blender's watts-to-intensity convention for point lamps, "
                        "which this export has not measured",
                        scene.point_lights.front().name);
-  for (const Object& o : scene.objects) {
-    if (!reflects(o)) continue;
-    if (o.material.type == BsdfType::kPhong)
-      return fmt::format("the object '{}' has a normalised Phong BSDF, which Cycles does not have", o.name);
-    if (o.material.type == BsdfType::kMirror && !is_planar(o.shape))
-      return fmt::format("the mirror '{}' is a sphere, which Cycles would render as a faceted polyhedron whose "
-                         "flat facets reflect along other directions than the sphere",
-                         o.name);
-  }
+  for (size_t i = 0; i < scene.objects.size(); ++i)
+    if (auto refusal = cycles_material(scene, i).refusal) return refusal;
   return std::nullopt;
 }
 
@@ -250,7 +270,7 @@ std::string error_lines(const Object& o, const CyclesMesh& mesh) {
 }
 
 std::string header(const Scene& scene, const CyclesOptions& options, const std::vector<CyclesMesh>& meshes) {
-  const int check_depth = direct_lighting_is_complete(scene) ? 2 : options.max_segments;
+  const int check_depth = check_max_depth(scene, options.max_segments);
   const std::string depth_words = options.max_segments == kUnlimitedDepth
                                       ? fmt::format("unlimited depth (max_bounces {}: a path of more segments carries\n# "
                                                     "a fraction rho^{} of the light, nothing at these albedos)",
@@ -303,226 +323,12 @@ std::string header(const Scene& scene, const CyclesOptions& options, const std::
       "#   the scene's size from a surface let light through, and rare camera samples cross curved silhouettes.\n"
       "# Tessellation (Cycles renders triangles; each shape's error below is computed from its construction):\n",
       comment_text(scene.name), comment_text(scene.source), comment_text(scene.source), depth_name(check_depth),
-      depth_words,
-      check_depth == 2 && options.max_segments != 2
-          ? ",\n# which is direct lighting here: light reaches the eye after at most one bounce, off the only reflector"
-          : "",
+      depth_words, direct_lighting_clause(scene, options.max_segments),
       cycles_max_bounces(options.max_segments),
       options.max_segments == kUnlimitedDepth ? std::string(" for unlimited depth (Blender's largest)") : std::string());
   for (size_t i = 0; i < scene.objects.size(); ++i) text += error_lines(scene.objects[i], meshes[i]);
   return text;
 }
-
-// The Python that builds the scene from SCENE (written above it) and renders.
-constexpr const char* kBuilder = R"PY(
-import argparse
-import os
-import sys
-import time
-
-import bpy
-from mathutils import Matrix
-
-
-def arguments():
-    argv = sys.argv[sys.argv.index('--') + 1:] if '--' in sys.argv else []
-    parser = argparse.ArgumentParser(
-        prog='blender -b --factory-startup --python-exit-code 1 --python SCRIPT --',
-        description='Render scene ' + SCENE['name'] + ' with Cycles for furnace check.')
-    seeds = parser.add_mutually_exclusive_group(required=True)
-    seeds.add_argument('--seed', type=int, help='one render with this seed')
-    seeds.add_argument('--seeds', help='A-B: one render per seed A..B (inclusive) in this Blender process')
-    parser.add_argument('--output', required=True, help='EXR path; with --seeds it must contain {seed}')
-    parser.add_argument('--spp', type=int, default=SCENE['spp'], help='samples per pixel')
-    parser.add_argument('--threads', type=int, default=0, help='Cycles threads (0: all cores)')
-    args = parser.parse_args(argv)
-    if args.seed is not None:
-        seeds = [args.seed]
-    else:
-        parts = args.seeds.split('-')
-        if len(parts) != 2 or not all(p.isdigit() for p in parts) or int(parts[0]) > int(parts[1]):
-            parser.error('--seeds must be A-B with integers 0 <= A <= B, got %r' % args.seeds)
-        seeds = list(range(int(parts[0]), int(parts[1]) + 1))
-        if '{seed}' not in args.output:
-            parser.error('--output must contain {seed} when --seeds names several renders, got %r' % args.output)
-    for s in seeds:
-        if not 0 <= s <= SEED_MAX:
-            parser.error('seed %d is outside Cycles\' range 0..%d' % (s, SEED_MAX))
-    if not 1 <= args.spp <= SPP_MAX:
-        parser.error('--spp must be in 1..%d, got %d' % (SPP_MAX, args.spp))
-    if not 0 <= args.threads <= 1024:
-        parser.error('--threads must be in 0..1024, got %d' % args.threads)
-    directory = os.path.dirname(os.path.abspath(args.output))
-    if not os.path.isdir(directory) or not os.access(directory, os.W_OK):
-        parser.error('--output %r: the directory %r does not exist or is not writable' % (args.output, directory))
-    return seeds, args.output, args.spp, args.threads
-
-
-def clear_file():
-    for collection in (bpy.data.objects, bpy.data.meshes, bpy.data.cameras, bpy.data.lights,
-                       bpy.data.materials, bpy.data.worlds):
-        for item in list(collection):
-            collection.remove(item)
-
-
-def material(o):
-    m = bpy.data.materials.new(o['name'])
-    m.use_nodes = True
-    nodes, links = m.node_tree.nodes, m.node_tree.links
-    nodes.clear()
-    output = nodes.new('ShaderNodeOutputMaterial')
-    output.target = 'CYCLES'
-    rho = o['albedo']
-    surface = None
-    if rho > 0 or o['emission'] == 0:
-        if o['mirror']:
-            bsdf = nodes.new('ShaderNodeBsdfGlossy')
-            bsdf.distribution = 'SHARP'
-        else:
-            bsdf = nodes.new('ShaderNodeBsdfDiffuse')
-            bsdf.inputs['Roughness'].default_value = 0.0
-        bsdf.inputs['Color'].default_value = (rho, rho, rho, 1.0)
-        surface = bsdf.outputs[0]
-    if o['emission'] > 0:
-        emission = nodes.new('ShaderNodeEmission')
-        emission.inputs['Color'].default_value = (1.0, 1.0, 1.0, 1.0)
-        emission.inputs['Strength'].default_value = o['emission']
-        emitted = emission.outputs[0]
-        if not o['two_sided']:
-            geometry = nodes.new('ShaderNodeNewGeometry')
-            front_only = nodes.new('ShaderNodeMixShader')
-            links.new(geometry.outputs['Backfacing'], front_only.inputs['Fac'])
-            links.new(emitted, front_only.inputs[1])  # input 2 (back faces) stays empty: no emission
-            emitted = front_only.outputs[0]
-        if surface is None:
-            surface = emitted
-        else:
-            both = nodes.new('ShaderNodeAddShader')
-            links.new(surface, both.inputs[0])
-            links.new(emitted, both.inputs[1])
-            surface = both.outputs[0]
-    links.new(surface, output.inputs['Surface'])
-    return m
-
-
-def build(spp, threads):
-    clear_file()
-    scene = bpy.context.scene
-    for o in SCENE['objects']:
-        mesh = bpy.data.meshes.new(o['name'])
-        mesh.from_pydata(o['vertices'], [], o['triangles'])
-        mesh.update()
-        mesh.materials.append(material(o))
-        scene.collection.objects.link(bpy.data.objects.new(o['name'], mesh))
-
-    world = bpy.data.worlds.new('environment')
-    world.use_nodes = True
-    background = world.node_tree.nodes['Background']
-    background.inputs['Color'].default_value = (1.0, 1.0, 1.0, 1.0)
-    background.inputs['Strength'].default_value = SCENE['environment']
-    scene.world = world
-
-    c = SCENE['camera']
-    camera = bpy.data.cameras.new('camera')
-    camera.type = 'ORTHO'
-    camera.ortho_scale = c['ortho_scale']
-    camera.sensor_fit = c['sensor_fit']
-    camera.clip_start = c['clip_start']
-    camera.clip_end = c['clip_end']
-    camera_object = bpy.data.objects.new('camera', camera)
-    camera_object.matrix_world = Matrix(c['matrix'])
-    scene.collection.objects.link(camera_object)
-    scene.camera = camera_object
-
-    r = scene.render
-    r.engine = 'CYCLES'
-    r.resolution_x, r.resolution_y = SCENE['resolution']
-    r.resolution_percentage = 100
-    r.pixel_aspect_x, r.pixel_aspect_y = SCENE['pixel_aspect']
-    r.use_border = False
-    r.film_transparent = False
-    r.use_compositing = False
-    r.use_sequencer = False
-    r.dither_intensity = 0.0
-    r.use_persistent_data = True
-    r.threads_mode = 'FIXED' if threads > 0 else 'AUTO'
-    if threads > 0:
-        r.threads = threads
-    r.use_file_extension = False
-    image = r.image_settings
-    image.file_format = 'OPEN_EXR'
-    image.color_mode = 'RGB'
-    image.color_depth = '32'
-    image.exr_codec = 'ZIP'
-    image.use_preview = False
-    view = scene.view_settings
-    view.view_transform = 'Standard'
-    view.look = 'None'
-    view.exposure = 0.0
-    view.gamma = 1.0
-    view.use_curve_mapping = False
-
-    cy = scene.cycles
-    cy.device = 'CPU'
-    cy.samples = spp
-    cy.use_adaptive_sampling = False
-    cy.use_denoising = False
-    cy.time_limit = 0.0
-    cy.sampling_pattern = 'SOBOL'
-    cy.scrambling_distance = 1.0
-    cy.auto_scrambling_distance = False
-    cy.use_animated_seed = False
-    cy.sample_offset = 0
-    cy.sample_clamp_direct = 0.0
-    cy.sample_clamp_indirect = 0.0
-    cy.light_sampling_threshold = 0.0
-    cy.caustics_reflective = True
-    cy.caustics_refractive = True
-    cy.blur_glossy = 0.0
-    cy.use_guiding = False
-    cy.use_fast_gi = False
-    cy.use_camera_cull = False
-    cy.use_distance_cull = False
-    cy.direct_light_sampling_type = 'MULTIPLE_IMPORTANCE_SAMPLING'
-    bounces = SCENE['max_bounces']
-    cy.max_bounces = bounces
-    cy.diffuse_bounces = bounces
-    cy.glossy_bounces = bounces
-    cy.transmission_bounces = bounces
-    cy.transparent_max_bounces = bounces
-    cy.volume_bounces = 0
-    cy.min_light_bounces = 0
-    cy.min_transparent_bounces = 0
-    cy.pixel_filter_type = FILTER[0]
-    cy.filter_width = FILTER[1]
-    cy.film_exposure = 1.0
-    for layer in scene.view_layers:
-        layer.samples = 0
-        layer.cycles.denoising_store_passes = False
-    return scene
-
-
-def render(scene, seed, path):
-    scene.cycles.seed = seed
-    temporary = os.path.join(os.path.dirname(os.path.abspath(path)), '.' + os.path.basename(path) + '.tmp.exr')
-    scene.render.filepath = temporary
-    start = time.time()
-    bpy.ops.render.render(write_still=True)
-    if not os.path.isfile(temporary):
-        raise RuntimeError('Blender wrote no image to ' + temporary)
-    os.replace(temporary, path)
-    print('furnace-cycles: seed %d -> %s (%.2f s)' % (seed, path, time.time() - start), flush=True)
-
-
-def main():
-    seeds, output, spp, threads = arguments()
-    scene = build(spp, threads)
-    for seed in seeds:
-        render(scene, seed, output.replace('{seed}', str(seed)))
-
-
-main()
-)PY";
 
 }  // namespace
 
@@ -630,7 +436,7 @@ std::string export_cycles(const Scene& scene, const CyclesOptions& options) {
     const CyclesMesh& mesh = meshes[i];
     text += fmt::format("        {{'name': {}, 'albedo': {}, 'mirror': {}, 'emission': {}, 'two_sided': {},\n",
                         python_string(o.name), num(o.material.albedo),
-                        reflects(o) && o.material.type == BsdfType::kMirror ? "True" : "False",
+                        cycles_material(scene, i).mirror ? "True" : "False",
                         num(o.emitted_radiance), o.two_sided ? "True" : "False");
     text += "         'vertices': [";
     for (size_t k = 0; k < mesh.vertices.size(); ++k) text += (k ? ", " : "") + tuple(mesh.vertices[k]);
@@ -643,7 +449,7 @@ std::string export_cycles(const Scene& scene, const CyclesOptions& options) {
   text += "    ],\n}\n";
   text += fmt::format("FILTER = ('{}', {})\n", kFilterType, num(kFilterWidth));
   text += fmt::format("SEED_MAX = {}\nSPP_MAX = {}\n", kCyclesMaxSeed, kCyclesMaxSpp);
-  return text + kBuilder;
+  return text + kCyclesScenePython;
 }
 
 void write_cycles(const Scene& scene, const CyclesOptions& options, const std::filesystem::path& path) {

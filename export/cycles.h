@@ -15,15 +15,16 @@
 // (the camera's included), so a furnace depth of D segments is B = D − 2;
 // unlimited depth is B = 1024, Blender's largest, beyond which Russian
 // roulette has ended every path that matters. check_max_depth() of
-// pbrt_v4.h names the `furnace check --max-depth` whose reference Cycles
-// renders (direct lighting where light bounces at most once).
+// export/scene_facts.h names the `furnace check --max-depth` whose reference
+// Cycles renders (direct lighting where light bounces at most once).
 //
 // Cycles renders triangle meshes: disks and spheres are tessellated (equal
 // area), and emitting rectangles and triangles are cut into a grid of
 // smaller triangles. Each exported shape's tessellation error, computed
 // exactly from the construction, is written into the script's header. The
 // facts about Cycles the export relies on, and how each was measured, open
-// cycles.cpp and every exported script.
+// cycles.cpp and every exported script. The Blender program the script
+// ends with is export/cycles_scene.py, embedded at build time.
 #pragma once
 
 #include <array>
@@ -35,6 +36,7 @@
 
 #include "core/scene.h"
 #include "core/strategy.h"
+#include "export/scene_facts.h"
 
 namespace furnace::exporter {
 
@@ -79,7 +81,9 @@ struct CyclesMesh {
 CyclesMesh cycles_mesh(const Object& object, const CyclesOptions& options = {});
 
 // Empty when the export can express the scene; otherwise the reason, one
-// sentence naming the scene and the feature.
+// sentence naming the scene, the object and its field (e.g.
+// objects[0].material.type "phong") or the feature. Every material type is
+// decided explicitly: written, or refused with its reason.
 std::optional<std::string> cycles_refusal(const Scene& scene);
 
 // The scene as a Blender Python script, opening with comments that state the

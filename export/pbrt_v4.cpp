@@ -22,12 +22,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <variant>
 
 #include <fmt/format.h>
 
-#include "core/error.h"
 #include "core/atomic_file.h"
+#include "core/error.h"
+#include "export/scene_facts.h"
+#include "export/text.h"
 
 namespace furnace::exporter {
 
@@ -40,37 +43,74 @@ constexpr double kMirrorNormalIncidenceTolerance = 1e-9;
 // pbrt clamps a conductor's "reflectance" to this value.
 constexpr double kPbrtMaxConductorReflectance = 0.9999;
 
-// Shortest round-trip decimal; adding +0.0 writes -0 as 0.
-std::string num(double x) { return fmt::format("{}", x + 0.0); }
 std::string point(const Vec3& p) { return fmt::format("{} {} {}", num(p.x), num(p.y), num(p.z)); }
 std::string constant_spectrum(double value) { return fmt::format("[300 {0} 900 {0}]", value); }
-// A name on one comment line: a line break in it would end the comment.
-std::string comment_text(std::string name) {
-  std::replace(name.begin(), name.end(), '\n', ' ');
-  std::replace(name.begin(), name.end(), '\r', ' ');
-  return name;
-}
 
-bool reflects(const Object& o) { return o.material.albedo > 0; }
-bool is_reflecting_mirror(const Object& o) { return reflects(o) && o.material.type == BsdfType::kMirror; }
+// Whether `o` reflects as a mirror (pbrt_material() writes it as a conductor
+// or refuses it); any other reflector would light a mirror at oblique
+// incidence.
+bool is_reflecting_mirror(const Object& o) { return reflects(o.material) && o.material.type == BsdfType::kMirror; }
 
-std::optional<std::string> mirror_refusal(const Scene& scene, const Object& mirror) {
+// Why the mirror scene.objects[index] is not met only at normal incidence,
+// where pbrt's conductor reflects exactly its reflectance; empty when it is.
+std::optional<std::string> mirror_refusal(const Scene& scene, size_t index) {
+  const Object& mirror = scene.objects[index];
+  const std::string what = object_material_text(scene, index);
   if (!is_planar(mirror.shape))
-    return fmt::format("the mirror '{}' is a sphere, which camera rays meet at oblique incidence", mirror.name);
+    return fmt::format("the mirror {} is a sphere, which camera rays meet at oblique incidence", what);
   if (mirror.material.albedo > kPbrtMaxConductorReflectance)
-    return fmt::format("the mirror '{}' has reflectance {}, above the {} to which pbrt clamps a conductor",
-                       mirror.name, mirror.material.albedo, kPbrtMaxConductorReflectance);
+    return fmt::format("the mirror {} has a reflectance above the {} to which pbrt clamps a conductor", what,
+                       kPbrtMaxConductorReflectance);
   const Vec3 n = shape_normal(mirror.shape, Vec3{});
   const double cos_incidence = std::fabs(dot(n, normalize(scene.camera.forward)));
   if (1 - cos_incidence > kMirrorNormalIncidenceTolerance)
-    return fmt::format("the mirror '{}' is not perpendicular to the camera's forward direction, so camera rays "
+    return fmt::format("the mirror {} is not perpendicular to the camera's forward direction, so camera rays "
                        "meet it at oblique incidence",
-                       mirror.name);
+                       what);
   for (const Object& o : scene.objects)
-    if (reflects(o) && !is_reflecting_mirror(o))
+    if (reflects(o.material) && !is_reflecting_mirror(o))
       return fmt::format("the object '{}' reflects light onto the mirror '{}' at oblique incidence", o.name,
                          mirror.name);
   return std::nullopt;
+}
+
+// How pbrt-v4 renders one object's material: its Material statement, or the
+// reason pbrt-v4 cannot (without the scene's name). The pbrt-v4 export's only
+// branch on the material type: one case per BsdfType, no default.
+struct PbrtMaterial {
+  std::string statement;                // the Material statement, when accepted
+  std::optional<std::string> refusal;   // set when refused
+  bool normal_incidence_mirror = false;  // a conductor standing for an ideal mirror (the header says why it is exact)
+};
+
+PbrtMaterial diffuse(double albedo) {
+  return {fmt::format("Material \"diffuse\" \"spectrum reflectance\" {}\n", constant_spectrum(albedo)), std::nullopt};
+}
+PbrtMaterial refused(std::string reason) { return {"", std::move(reason)}; }
+
+PbrtMaterial pbrt_material(const Scene& scene, size_t index) {
+  const Material& m = scene.objects[index].material;
+  // Black, whatever the type (reflects() decides it per type): a black
+  // diffuse surface reflects nothing either.
+  if (!reflects(m)) return diffuse(0);
+  switch (m.type) {
+    case BsdfType::kLambertian:
+      return diffuse(m.albedo);
+    case BsdfType::kMirror:
+      // pbrt's only smooth mirror is a conductor whose Fresnel reflectance
+      // equals ρ at normal incidence only; export it only where every path
+      // meets it there.
+      if (auto reason = mirror_refusal(scene, index))
+        return refused("pbrt-v4 has no ideal mirror (its smooth conductor of reflectance r reflects r at normal "
+                       "incidence only) and " + *reason);
+      return {fmt::format("Material \"conductor\" \"spectrum reflectance\" {} \"float roughness\" 0\n",
+                          constant_spectrum(m.albedo)),
+              std::nullopt, true};
+    case BsdfType::kPhong:
+      return refused(fmt::format("the object {} has a normalised Phong BSDF, which pbrt-v4 does not have",
+                                 object_material_text(scene, index)));
+  }
+  unknown_bsdf_type(m.type);
 }
 
 // The reason pbrt-v4 cannot express `scene`, without the scene's name.
@@ -80,28 +120,9 @@ std::optional<std::string> refusal_reason(const Scene& scene) {
                        "environments only as equal-area octahedral square images (resampling would change the "
                        "radiance the exact reference integrates)",
                        scene.environment.map_file);
-  for (const Object& o : scene.objects) {
-    if (!reflects(o)) continue;
-    if (o.material.type == BsdfType::kPhong)
-      return fmt::format("the object '{}' has a normalised Phong BSDF, which pbrt-v4 does not have", o.name);
-    if (o.material.type == BsdfType::kMirror) {
-      // pbrt's only smooth mirror is a conductor whose Fresnel reflectance
-      // equals ρ at normal incidence only; export it only where every path
-      // meets it there.
-      if (auto reason = mirror_refusal(scene, o))
-        return "pbrt-v4 has no ideal mirror (its smooth conductor of reflectance r reflects r at normal incidence "
-               "only) and " + *reason;
-    }
-  }
+  for (size_t i = 0; i < scene.objects.size(); ++i)
+    if (auto refusal = pbrt_material(scene, i).refusal) return refusal;
   return std::nullopt;
-}
-
-std::string material(const Object& o) {
-  if (is_reflecting_mirror(o))
-    return fmt::format("Material \"conductor\" \"spectrum reflectance\" {} \"float roughness\" 0\n",
-                       constant_spectrum(o.material.albedo));
-  // Lambertian, or black (any type with albedo 0).
-  return fmt::format("Material \"diffuse\" \"spectrum reflectance\" {}\n", constant_spectrum(o.material.albedo));
 }
 
 std::string triangle_mesh(std::initializer_list<Vec3> vertices, const std::string& indices) {
@@ -135,9 +156,10 @@ std::string shape(const Shape& s) {
   return std::visit(Visitor{}, s);
 }
 
-std::string object(const Object& o) {
+std::string object(const Scene& scene, size_t index) {
+  const Object& o = scene.objects[index];
   std::string text = fmt::format("# {}\nAttributeBegin\n", comment_text(o.name));
-  text += material(o);
+  text += pbrt_material(scene, index).statement;
   if (o.is_emitter())
     text += fmt::format("AreaLightSource \"diffuse\" \"float scale\" {}{}\n", num(o.emitted_radiance),
                         o.two_sided ? " \"bool twosided\" true" : "");
@@ -174,38 +196,27 @@ std::string header(const Scene& scene, const PbrtV4Options& options) {
       "#   see every shape, as furnace's camera does.\n"
       "# - {}\n",
       comment_text(scene.name), comment_text(scene.source), comment_text(scene.source),
-      depth_name(check_max_depth(scene, options)), depth_words,
-      check_max_depth(scene, options) == 2 && options.max_segments != 2
-          ? ",\n# which is direct lighting here: light reaches the eye after at most one bounce, off the only reflector"
-          : "",
+      depth_name(check_max_depth(scene, options)), depth_words, direct_lighting_clause(scene, options.max_segments),
       max_depth, depth_words,
       options.seed ? fmt::format("\"integer seed\" {} is fixed here and overrides `pbrt --seed`.", *options.seed)
                    : std::string("No seed is set here: `pbrt --seed S` chooses the independent sampler's numbers,\n"
                                  "#   which depend only on (pixel, seed)."));
-  for (const Object& o : scene.objects)
-    if (is_reflecting_mirror(o))
-      text += fmt::format(
-          "# - The mirror '{}' (reflectance {}) is a smooth conductor whose Fresnel reflectance is {} at normal\n"
-          "#   incidence only; every path meets it there (it is perpendicular to the camera and nothing else\n"
-          "#   reflects), so this export is exact.\n",
-          comment_text(o.name), o.material.albedo, o.material.albedo);
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    if (!pbrt_material(scene, i).normal_incidence_mirror) continue;
+    const Object& o = scene.objects[i];
+    text += fmt::format(
+        "# - The mirror '{}' (reflectance {}) is a smooth conductor whose Fresnel reflectance is {} at normal\n"
+        "#   incidence only; every path meets it there (it is perpendicular to the camera and nothing else\n"
+        "#   reflects), so this export is exact.\n",
+        comment_text(o.name), o.material.albedo, o.material.albedo);
+  }
   return text + "\n";
 }
 
 }  // namespace
 
-bool direct_lighting_is_complete(const Scene& scene) {
-  int reflecting = 0;
-  for (const Object& o : scene.objects) {
-    if (!reflects(o)) continue;
-    ++reflecting;
-    if (o.material.type != BsdfType::kLambertian || !is_planar(o.shape)) return false;
-  }
-  return reflecting <= 1;
-}
-
 int check_max_depth(const Scene& scene, const PbrtV4Options& options) {
-  return direct_lighting_is_complete(scene) && options.max_segments >= 2 ? 2 : options.max_segments;
+  return check_max_depth(scene, options.max_segments);
 }
 
 int pbrt_max_depth(int max_segments) {
@@ -252,7 +263,7 @@ std::string export_pbrt_v4(const Scene& scene, const PbrtV4Options& options) {
   for (const PointLight& light : scene.point_lights)
     text += fmt::format("# {}\nLightSource \"point\" \"float scale\" {} \"point3 from\" [{}]\n",
                         comment_text(light.name), num(light.intensity), point(light.position));
-  for (const Object& o : scene.objects) text += object(o);
+  for (size_t i = 0; i < scene.objects.size(); ++i) text += object(scene, i);
   return text;
 }
 

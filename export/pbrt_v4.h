@@ -22,6 +22,7 @@
 
 #include "core/scene.h"
 #include "core/strategy.h"
+#include "export/scene_facts.h"
 
 namespace furnace::exporter {
 
@@ -37,20 +38,15 @@ struct PbrtV4Options {
 // reaches: Russian roulette ends its paths.
 int pbrt_max_depth(int max_segments);
 
-// True when light reaches the eye after at most one bounce, off the only
-// reflecting object, a planar Lambertian one (every other object black, no
-// mirror): any depth of 2 or more segments then renders furnace's
-// direct-lighting reference.
-bool direct_lighting_is_complete(const Scene& scene);
-
 // The `furnace check --max-depth` value whose reference is what pbrt renders
-// from this export: 2 (emission + one bounce: direct lighting) when
-// direct_lighting_is_complete() and the depth allows one bounce, else
-// options.max_segments.
+// from this export: check_max_depth(scene, options.max_segments) of
+// export/scene_facts.h (which also holds direct_lighting_is_complete()).
 int check_max_depth(const Scene& scene, const PbrtV4Options& options);
 
 // Empty when pbrt-v4 can express the scene exactly; otherwise the reason,
-// one sentence naming the scene and the feature pbrt-v4 lacks.
+// one sentence naming the scene, the object and its field (e.g.
+// objects[0].material.type "phong") or the feature pbrt-v4 lacks. Every
+// material type is decided explicitly: written, or refused with its reason.
 std::optional<std::string> pbrt_v4_refusal(const Scene& scene);
 
 // The scene as pbrt-v4 text, opening with comments that state the facts it

@@ -1,0 +1,55 @@
+// Facts about a furnace scene that every exporter needs, decided once here
+// instead of in one exporter: whether an object reflects at all, the scene
+// file's words for a material in a refusal sentence, and which
+// `furnace check --max-depth` has the reference a render of the complete
+// light transport must match. Each decision that depends on the material
+// type is a switch with one case per BsdfType and no default, so a new type
+// fails the build here (-Werror=switch, export/CMakeLists.txt) until it is
+// decided (docs/exporters.md).
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "core/scene.h"
+
+namespace furnace::exporter {
+
+// The scene file's word for a BSDF type: "lambertian", "mirror" or "phong",
+// the values of objects[i].material.type that core/scene.cpp parses.
+const char* bsdf_type_name(BsdfType type);
+
+// An object's material as its scene file states it, for refusal sentences:
+// 'receiver' (objects[0].material.type "phong", albedo 0.5).
+std::string object_material_text(const Scene& scene, size_t index);
+
+// Whether the material reflects any light. Every current type scales its
+// whole reflection by material.albedo (Lambertian ρ/π, a mirror's ρ·δ,
+// Phong's lobe albedo), so albedo 0 is black whatever the type, and an
+// exporter may write a black object as a black diffuse surface.
+bool reflects(const Material& material);
+
+// True when light reaches the eye after at most one bounce, off the only
+// reflecting object, a planar Lambertian one (every other object black): any
+// depth of 2 or more segments then renders furnace's direct-lighting
+// reference, `furnace check --max-depth 2`.
+bool direct_lighting_is_complete(const Scene& scene);
+
+// The `furnace check --max-depth` whose reference a render of at most
+// `max_segments` path segments (furnace's convention, the camera's segment
+// included; kUnlimitedDepth for the complete transport) must match: 2
+// (emission + one bounce: direct lighting) when direct_lighting_is_complete()
+// and the depth allows one bounce, else max_segments.
+int check_max_depth(const Scene& scene, int max_segments);
+
+// The clause an exported file's header adds after "furnace's global
+// illumination at <depth>" when check_max_depth() chose direct lighting for
+// a deeper render; empty otherwise.
+std::string direct_lighting_clause(const Scene& scene, int max_segments);
+
+// An internal error: `type` is no enumerator of BsdfType (a value cast from
+// an integer). Every switch over BsdfType in export/ ends with it, after one
+// case per enumerator.
+[[noreturn]] void unknown_bsdf_type(BsdfType type);
+
+}  // namespace furnace::exporter

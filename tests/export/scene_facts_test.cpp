@@ -1,0 +1,117 @@
+// The scene facts every exporter shares (export/scene_facts.h): the scene
+// file's word for each material type, which materials reflect, when direct
+// lighting is the whole answer, and that a material type no exporter decided
+// is an internal error, never a silently diffuse surface.
+#include "export/scene_facts.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "core/scene.h"
+#include "core/strategy.h"
+
+namespace furnace::exporter {
+namespace {
+
+namespace fs = std::filesystem;
+
+Scene builtin(const std::string& name) { return load_scene(fs::path(FURNACE_SCENE_DIR) / (name + ".json")); }
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// A one-object scene whose material is {"type": type, "albedo": albedo}.
+Scene scene_with_material(const std::string& type, double albedo) {
+  return parse_scene(fmt::format(R"({{
+    "name": "material_test",
+    "camera": {{"type": "orthographic", "center": [0, 0, 1], "forward": [0, 0, -1], "up": [0, 1, 0],
+               "size": [1, 1], "resolution": [4, 4]}},
+    "objects": [
+      {{"name": "floor", "shape": {{"type": "rectangle", "corner": [-1, -1, 0], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0]}},
+       "material": {{"type": "{}", "albedo": {}}}}}
+    ]}})",
+                                 type, albedo),
+                     "material_test.json");
+}
+
+// One entry per BsdfType: a switch with no default, so adding a type fails
+// this test's build (-Werror=switch) until it is listed here too.
+const char* expected_name(BsdfType type) {
+  switch (type) {
+    case BsdfType::kLambertian: return "lambertian";
+    case BsdfType::kMirror: return "mirror";
+    case BsdfType::kPhong: return "phong";
+  }
+  return "";
+}
+
+TEST(ExportSceneFacts, EveryMaterialTypeNameIsTheWordTheSceneLoaderReads) {
+  for (const BsdfType type : {BsdfType::kLambertian, BsdfType::kMirror, BsdfType::kPhong}) {
+    const std::string word = expected_name(type);
+    ASSERT_FALSE(word.empty());
+    EXPECT_EQ(bsdf_type_name(type), word);
+    // Round trip through the loader: the word parses back to the same type.
+    EXPECT_EQ(scene_with_material(word, 0.5).objects[0].material.type, type) << word;
+  }
+}
+
+TEST(ExportSceneFacts, ObjectMaterialTextNamesObjectFieldAndValue) {
+  const Scene scene = scene_with_material("phong", 0.25);
+  EXPECT_EQ(object_material_text(scene, 0), "'floor' (objects[0].material.type \"phong\", albedo 0.25)");
+}
+
+TEST(ExportSceneFacts, EveryTypeReflectsExactlyWhenItsAlbedoIsPositive) {
+  for (const BsdfType type : {BsdfType::kLambertian, BsdfType::kMirror, BsdfType::kPhong}) {
+    EXPECT_TRUE(reflects(Material{type, 0.5, 10})) << bsdf_type_name(type);
+    EXPECT_TRUE(reflects(Material{type, 1e-300, 10})) << bsdf_type_name(type);
+    EXPECT_FALSE(reflects(Material{type, 0, 10})) << bsdf_type_name(type);
+  }
+}
+
+// The negative control of the allow-list: a BsdfType value no switch
+// handles (cast from an integer, as a newly added enumerator would look to
+// code that did not decide it) stops with an internal error. Before the
+// allow-list, both exporters wrote any such reflector as Lambertian.
+TEST(ExportSceneFactsDeathTest, AMaterialTypeNoSwitchHandlesIsAnInternalError) {
+  const Material unknown{static_cast<BsdfType>(7), 0.5, 0};
+  EXPECT_DEATH(reflects(unknown), "BsdfType value 7 is no enumerator of BsdfType");
+  EXPECT_DEATH(bsdf_type_name(unknown.type), "BsdfType value 7 is no enumerator of BsdfType");
+  Scene scene = builtin("disk_occluder");
+  scene.objects[0].material = unknown;
+  EXPECT_DEATH(direct_lighting_is_complete(scene), "no enumerator of BsdfType");
+}
+
+TEST(ExportSceneFacts, DirectLightingIsCompleteOnlyWithOnePlanarLambertianReflector) {
+  for (const char* name : {"disk_occluder", "environment_blocker", "point_and_area", "three_lights", "sphere_light"})
+    EXPECT_TRUE(direct_lighting_is_complete(builtin(name))) << name;
+  for (const char* name : {"enclosure_box", "enclosure_sphere", "white_furnace", "convex_furnace", "mirror_disk"})
+    EXPECT_FALSE(direct_lighting_is_complete(builtin(name))) << name;
+  // The one reflector of disk_occluder (its receiver) as each other type.
+  for (const BsdfType type : {BsdfType::kMirror, BsdfType::kPhong}) {
+    Scene scene = builtin("disk_occluder");
+    ASSERT_EQ(scene.objects[0].name, "receiver");
+    scene.objects[0].material.type = type;
+    EXPECT_FALSE(direct_lighting_is_complete(scene)) << bsdf_type_name(type);
+    scene.objects[0].material.albedo = 0;  // black whatever the type: nothing bounces
+    EXPECT_TRUE(direct_lighting_is_complete(scene)) << bsdf_type_name(type);
+  }
+}
+
+TEST(ExportSceneFacts, CheckDepthIsTwoWhereDirectLightingIsCompleteAndTheDepthAllowsABounce) {
+  const Scene direct = builtin("environment_blocker");
+  EXPECT_EQ(check_max_depth(direct, kUnlimitedDepth), 2);
+  EXPECT_EQ(check_max_depth(direct, 5), 2);
+  EXPECT_EQ(check_max_depth(direct, 1), 1);  // emission only: not direct lighting
+  EXPECT_TRUE(contains(direct_lighting_clause(direct, kUnlimitedDepth), "which is direct lighting here"));
+  EXPECT_EQ(direct_lighting_clause(direct, 2), "");  // the depth asked for already is direct lighting
+  const Scene global = builtin("mirror_disk");
+  EXPECT_EQ(check_max_depth(global, kUnlimitedDepth), kUnlimitedDepth);
+  EXPECT_EQ(check_max_depth(global, 7), 7);
+  EXPECT_EQ(direct_lighting_clause(global, kUnlimitedDepth), "");
+}
+
+}  // namespace
+}  // namespace furnace::exporter
