@@ -27,6 +27,7 @@
 #include "export/cycles.h"
 #include "export/pbrt_v4.h"
 #include "verify/harness.h"
+#include "verify/verdict_table.h"
 #include "cli/progress.h"
 #include "verify/report.h"
 #include "verify/report_html.h"

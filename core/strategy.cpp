@@ -57,6 +57,13 @@ std::vector<Strategy> path_tracing_strategies() {
   return out;
 }
 
+std::vector<Strategy> multi_sample_mis_strategies() {
+  std::vector<Strategy> out;
+  for (const StrategyInfo& info : kStrategyTable)
+    if (is_multi_sample_mis(info.strategy)) out.push_back(info.strategy);
+  return out;
+}
+
 std::map<std::string, Strategy> strategy_names() {
   std::map<std::string, Strategy> out;
   for (const StrategyInfo& info : kStrategyTable) out.emplace(info.name, info.strategy);

@@ -105,6 +105,20 @@ inline bool samples_lights(Strategy s) { return strategy_info(s).samples_lights;
 // silently miss that light).
 inline bool strategy_sees_delta_lights(Strategy s) { return samples_lights(s); }
 inline bool has_variance_model(Strategy s) { return strategy_info(s).variance_model.has_value(); }
+// Multi-sample MIS: a direct strategy that draws one sample of each technique
+// and weighs them by the heuristic of exponent mis_beta (mis_balance,
+// mis_power). Two such strategies draw the same samples and rays and differ
+// only in the weights, so one render and one quadrature serve them all.
+constexpr bool is_multi_sample_mis(Strategy s) {
+  return strategy_info(s).kind == StrategyKind::kDirect && strategy_info(s).mis_beta > 0;
+}
+// The multi-sample MIS strategies, in table order, and how many there are.
+std::vector<Strategy> multi_sample_mis_strategies();
+constexpr size_t multi_sample_mis_count() {
+  size_t n = 0;
+  for (const StrategyInfo& info : kStrategyTable) n += is_multi_sample_mis(info.strategy) ? 1 : 0;
+  return n;
+}
 // Throws furnace::Error naming the value and the accepted names.
 Strategy parse_strategy(const std::string& name);
 // The direct-lighting strategies and the path tracers, in table order.

@@ -45,8 +45,7 @@ std::array<Rng, kRayPacket> streams(uint64_t pixel_key, uint64_t first) {
 }  // namespace
 
 bool shares_samples(Strategy a, Strategy b) {
-  const auto multi_sample_mis = [](Strategy s) { return s == Strategy::kMisBalance || s == Strategy::kMisPower; };
-  return a == b || (multi_sample_mis(a) && multi_sample_mis(b));
+  return a == b || (is_multi_sample_mis(a) && is_multi_sample_mis(b));
 }
 
 Image render(const Scene& scene, const RenderOptions& options) {
@@ -113,8 +112,11 @@ std::vector<Image> render_sharing_samples(const Scene& scene, const RenderOption
   if (path && strategies.size() != 1)
     throw Error(fmt::format("strategy '{}' shares its samples with no other strategy, so one render gives one image.",
                             strategy_name(options.strategy)));
-  const DirectLighting direct(rtc_scene, lights, strategies, options.defect);
-  const PathTracer path_tracer(rtc_scene, lights, options);
+  // Only the integrator the strategy needs is built.
+  std::optional<DirectLighting> direct;
+  std::optional<PathTracer> path_tracer;
+  if (path) path_tracer.emplace(rtc_scene, lights, options);
+  else direct.emplace(rtc_scene, lights, strategies, options.defect);
   const size_t n_estimators = strategies.size();
 
   const size_t n_pixels = size_t(scene.camera.width_px) * size_t(scene.camera.height_px);
@@ -161,11 +163,11 @@ std::vector<Image> render_sharing_samples(const Scene& scene, const RenderOption
         std::array<Rng, kRayPacket> rngs = streams(pixel_key, uint64_t(first));
         std::array<std::array<double, kRayPacket>, DirectLighting::kMaxSharedEstimators> y;
         if (path) {
-          for (size_t i = 0; i < n; ++i) y[0][i] = path_tracer.radiance(ray.direction, hit, rngs[i], c, &setups);
+          for (size_t i = 0; i < n; ++i) y[0][i] = path_tracer->radiance(ray.direction, hit, rngs[i], c, &setups);
         } else if (ctx) {
           std::array<double*, DirectLighting::kMaxSharedEstimators> outs;
           for (size_t e = 0; e < n_estimators; ++e) outs[e] = y[e].data();
-          direct.estimate_shared(*ctx, rngs.data(), n, c, &setups, outs.data());
+          direct->estimate_shared(*ctx, rngs.data(), n, c, &setups, outs.data());
           for (size_t e = 0; e < n_estimators; ++e)
             for (size_t i = 0; i < n; ++i) y[e][i] = le + y[e][i];
         } else {

@@ -316,7 +316,7 @@ def main():
             " reference. Slope: least-squares slope of log RMSE against log spp (&minus;&frac12; for an unbiased"
             " estimator of finite variance; flatter means bias or infinite variance). Efficiency: 1/(relative MSE"
             " &times; seconds) at the largest spp. <code>name@power</code>: the case runs under power light"
-            " selection (uniform otherwise); <code>name/dN</code>: a path tracer limited to N segments. Equal time:"
+            " selection (uniform otherwise); <code>name/dN</code>: a path tracer limited to N segments (<code>/inf</code>: unlimited). Equal time:"
             " each strategy's spp scaled to the scene's budget, the fastest strategy's time at the largest spp."
             " Images of a scene share one tone mapping (radiance &times; 0.8 / 99.5th percentile of the reference, sRGB) and one"
             " error range; red is too bright. t: the pixel's error over its standard error, range &plusmn;4.</p>"]

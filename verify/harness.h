@@ -12,6 +12,9 @@
 
 #include "core/scene.h"
 #include "renderer/render.h"
+#include "verify/analytic_cache.h"
+#include "verify/calibration.h"
+#include "verify/suite.h"
 
 namespace furnace::verify {
 
@@ -22,19 +25,6 @@ inline constexpr double kDefaultFamilyAlpha = 0.01;
 // Power at which the minimum detectable bias is quoted: the bias the test
 // would catch with probability 1 − β. 0.9 is the usual design power.
 inline constexpr double kReportedPower = 0.9;
-// The smallest spp at which the built-in suite's false-alarm rate has been
-// measured to stay within its stated α, per strategy: `furnace sweep
-// --strategy NAME` found no case rejecting significantly more often than its
-// per-case α there and at every larger spp measured (README "Low spp" gives
-// the counts). Below it the per-pixel tests' normal approximations (Hall's
-// statistic, Cochran's rule, the fourth-moment standard error of s²) are not
-// calibrated for that strategy's most skewed cases: verify and sweep still
-// run but print low_spp_warning().
-int min_calibrated_spp(Strategy strategy);
-// The smallest and largest min_calibrated_spp over all strategies (--help).
-int lowest_min_calibrated_spp();
-int highest_min_calibrated_spp();
-
 
 // Each pixel's mean is tested with Hall's skewness-corrected t statistic
 // against Student's t quantile (stats::pixel_mean_test, stats/pixel_tests.h).
@@ -45,16 +35,6 @@ int highest_min_calibrated_spp();
 // whose samples are all equal (s = 0) must match its reference exactly; if it
 // does not, it is skipped the same way unless every pixel of the case is
 // constant (a zero-variance estimator, which must be exact everywhere).
-
-struct Case {
-  std::string scene_path;
-  RenderOptions options;
-};
-
-// One sentence naming each strategy among `cases` whose case spp is below its
-// min_calibrated_spp, with that spp; empty when every case is at or above its
-// strategy's.
-std::string low_spp_warning(const std::vector<Case>& cases);
 
 struct Verdict {
   std::string scene;
@@ -113,46 +93,6 @@ VerdictKind verdict_kind(const Verdict& v);
 // model (not the estimator it claims to be)".
 std::string verdict_explanation(VerdictKind kind);
 
-// The verdict table's cells that its JSON and HTML twins (verdict_export.h)
-// print too, so the three cannot drift apart:
-// the verdict column: "pass", "FAIL biased" or "FAIL variance";
-const char* verdict_label(VerdictKind kind);
-// the strategy column: the strategy, with "+defect" when one is injected;
-std::string strategy_label(const Verdict& v);
-// the "var detect" column: "-" when not tested, "exact" for a zero predicted
-// variance (tested for exact agreement), else the detectable error in %;
-std::string variance_detect_cell(const Verdict& v);
-// the "weakest" lines: the `count` verdicts with the largest finite `detect`
-// among those `applies` selects, largest first (an exact case, tested for
-// exact agreement, quotes no relative error and is left out).
-std::vector<const Verdict*> weakest_cases(const std::vector<Verdict>& verdicts, double Verdict::*detect,
-                                          bool (*applies)(const Verdict&), size_t count);
-
-// The analytic side of cases (per-pixel references and predicted
-// variances), computed once per scene file and kept for every later case
-// that needs the same values: the direct-lighting strategies of a scene share
-// one reference, the path tracers one per max_depth, and a strategy's
-// variances (under one light selection) do not depend on the seed or spp, so
-// a sweep over seeds computes them once. A value is a pure function of the
-// scene file and those keys, so a run's results are the same with or without
-// the cache. Thread-safe: concurrent cases may share one (two cases that
-// miss the same key at once both compute it; the values are equal).
-class AnalyticCache {
- public:
-  // reference_for(scene, options), from the cache when this scene file's was computed before.
-  const std::vector<double>& reference(const Case& c, const Scene& scene);
-  // The predicted per-pixel variances E[Y²] − E[Y]² of c's strategy, or empty
-  // when analytic/ does not model them on this scene (see run_case).
-  const std::vector<double>& predicted_variance(const Case& c, const Scene& scene,
-                                                const std::vector<double>& reference);
-
- private:
-  std::mutex mutex_;  // guards the maps; values are computed outside it
-  // std::map: references to its values stay valid as keys are added.
-  std::map<std::string, std::vector<double>> references_;
-  std::map<std::string, std::vector<double>> variances_;
-};
-
 // Runs one case. `per_case_alpha` is the family-wise level of this case's
 // P + 1 mean tests (P pixel tests and the image-mean test) and, where the
 // strategy's variance is modelled, its aggregate variance test. `cache`,
@@ -167,35 +107,5 @@ Verdict run_case(const Case& c, double per_case_alpha, AnalyticCache* cache = nu
 // `case_done` is called (serialised) after each case.
 std::vector<Verdict> run_cases(const std::vector<Case>& cases, double per_case_alpha, int threads,
                                const std::function<void()>& case_done = {});
-
-// The built-in suite `furnace verify` runs when no scene is given: each
-// built-in scene with the strategies whose reference it has (direct-lighting
-// strategies against analytic::reference_image, path tracers against
-// analytic::global_reference_image), at `spp` samples per pixel.
-std::vector<Case> default_suite(int spp, uint64_t seed, int threads);
-
-// The reference a case's render must converge to, per pixel centre; a
-// non-finite value is bad input (require_finite_reference).
-std::vector<double> reference_for(const Scene& scene, const RenderOptions& options);
-
-// Throws furnace::Error naming the scene file, the pixel and the value if any
-// per-pixel reference (row-major, the scene camera's width) is not finite: a
-// scene whose exact answer overflows double precision cannot be verified.
-void require_finite_reference(const std::vector<double>& reference, const Scene& scene);
-
-std::string scene_dir();
-
-// How many of the least powerful cases the table's summary names, per test.
-inline constexpr size_t kWeakestCasesListed = 5;
-
-// Formats the verdict table: one row per case with the smallest relative bias
-// its image-mean test detects (`detect`), the median of the same per pixel
-// (`px detect`) and the smallest relative error of the summed variance its
-// variance test detects (`var detect`; "-" when not tested, "exact" when the
-// predicted variance is 0 and the test is one of exact agreement), each at power
-// kReportedPower; a line per failed case saying which kind of failure it is;
-// and a summary naming the kWeakestCasesListed cases with the largest
-// `detect` and `var detect`.
-std::string format_table(const std::vector<Verdict>& verdicts, double family_alpha);
 
 }  // namespace furnace::verify

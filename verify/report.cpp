@@ -30,13 +30,6 @@ double least_squares_slope(const std::vector<double>& x, const std::vector<doubl
 
 }  // namespace
 
-std::string case_strategy_label(const RenderOptions& options) {
-  std::string label = strategy_name(options.strategy);
-  if (options.max_depth != kUnlimitedDepth) label += "/d" + std::to_string(options.max_depth);
-  if (options.light_selection == LightSelection::kPower) label += "@power";
-  return label;
-}
-
 ConvergenceSeries measure_convergence(const Case& c, int min_spp, int max_spp, Image* largest,
                                       std::vector<double>* reference_out) {
   const Scene scene = load_scene(c.scene_path);
@@ -48,7 +41,7 @@ ConvergenceSeries measure_convergence(const Case& c, int min_spp, int max_spp, I
 
   ConvergenceSeries series;
   series.scene = scene.name;
-  series.strategy = case_strategy_label(c.options);
+  series.strategy = case_label(c.options);
   std::vector<double> log_spp, log_rmse;
   for (int spp = min_spp; spp <= max_spp; spp *= 2) {
     RenderOptions options = c.options;

@@ -22,9 +22,9 @@ struct ConvergencePoint {
 
 struct ConvergenceSeries {
   std::string scene;
-  // The strategy as the verify table names it: "light_area", "path_mis/d4"
-  // for a depth-limited path tracer, "light_area@power" under power light
-  // selection (the built-in suite runs some scenes under both selections).
+  // The strategy as the verify table names it (case_label, verify/suite.h):
+  // "light_area", "path_mis/inf", "path_mis/d4", "light_area@power" (the
+  // built-in suite runs some scenes under both selections).
   std::string strategy;
   std::vector<ConvergencePoint> points;
   // Least-squares slope of log(rmse) against log(spp): −1/2 for an unbiased
@@ -37,10 +37,6 @@ struct ConvergenceSeries {
   // Extrapolated from the largest spp along N^(−1/2): seconds to reach 1 % relative RMSE.
   double seconds_to_one_percent = 0;
 };
-
-// The strategy label of a case: its name, "/d<N>" for a depth limit,
-// "@power" under power light selection.
-std::string case_strategy_label(const RenderOptions& options);
 
 // Renders each case at spp = min_spp, 2·min_spp, ... ≤ max_spp (each spp an
 // independent render with the case's seed) and measures the error against the

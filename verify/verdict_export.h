@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "verify/harness.h"
+#include "verify/verdict_table.h"
 
 namespace furnace::verify {
 

@@ -55,6 +55,16 @@ TEST(StrategyTable, MisExponents) {
   EXPECT_EQ(strategy_info(Strategy::kLightArea).mis_beta, 0);
 }
 
+// The table's multi-sample MIS (one render and one quadrature serve them all)
+// is exactly the balance and power heuristics; path_mis weighs with β = 2
+// too but is a path tracer, and mis_one_sample is one-sample MIS.
+TEST(StrategyTable, MultiSampleMisIsTheBalanceAndPowerPair) {
+  EXPECT_EQ(multi_sample_mis_strategies(), (std::vector<Strategy>{Strategy::kMisBalance, Strategy::kMisPower}));
+  EXPECT_EQ(multi_sample_mis_count(), 2u);
+  EXPECT_FALSE(is_multi_sample_mis(Strategy::kPathMis));
+  EXPECT_FALSE(is_multi_sample_mis(Strategy::kMisOneSample));
+}
+
 TEST(StrategyTable, UnknownNamesListTheAcceptedOnes) {
   try {
     parse_strategy("light_areaa");

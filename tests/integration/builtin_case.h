@@ -10,6 +10,7 @@
 #include <string>
 
 #include "verify/harness.h"
+#include "verify/verdict_table.h"
 
 namespace furnace::verify::test {
 

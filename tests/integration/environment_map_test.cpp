@@ -23,6 +23,7 @@
 
 #include "tests/test_names.h"
 #include "verify/harness.h"
+#include "verify/verdict_table.h"
 
 namespace furnace::verify {
 namespace {

@@ -22,6 +22,7 @@
 
 #include "tests/integration/builtin_case.h"
 #include "verify/harness.h"
+#include "verify/verdict_table.h"
 
 namespace furnace::verify {
 namespace {

@@ -23,6 +23,7 @@
 #include "renderer/render.h"
 #include "tests/renderer/strategy_names.h"
 #include "verify/harness.h"
+#include "verify/verdict_table.h"
 #include "stats/statistics.h"
 
 namespace furnace {

@@ -25,6 +25,7 @@
 #include "renderer/render.h"
 #include "tests/test_names.h"
 #include "verify/harness.h"
+#include "verify/verdict_table.h"
 #include "stats/statistics.h"
 
 namespace furnace::verify {

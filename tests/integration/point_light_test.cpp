@@ -34,6 +34,7 @@
 #include "tests/renderer/strategy_names.h"
 #include "tests/test_names.h"
 #include "verify/harness.h"
+#include "verify/verdict_table.h"
 #include "stats/statistics.h"
 
 namespace furnace::verify {

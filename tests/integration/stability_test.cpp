@@ -34,6 +34,7 @@
 #include "renderer/render.h"
 #include "tests/test_names.h"
 #include "verify/harness.h"
+#include "verify/verdict_table.h"
 
 namespace furnace::verify {
 namespace {

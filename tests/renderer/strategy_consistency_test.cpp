@@ -1,7 +1,10 @@
 // The consistency MIS relies on, through the renderer's strategies on the
-// committed scenes (scenes/*.json), at the first hits of camera rays:
+// committed scenes (scenes/*.json), at the first hits of camera rays, for
+// every direct strategy of the table:
 //  - direction strategies (uniform_hemisphere, cosine_hemisphere, bsdf):
 //    sample().pdf == pdf(ctx, wi) and weight == eval·cos θ/pdf;
+//  - the MIS strategies (mis_balance, mis_power, mis_one_sample): both of
+//    the strategies they draw from (bsdf and light_solid_angle);
 //  - light strategies (light_area, light_solid_angle): for an unoccluded
 //    sample, the pdf() of the direction and the hit its ray finds equals the
 //    pdf sample() reported (environment samples: the ray escapes), and
@@ -121,18 +124,41 @@ Counts check_light_strategy(const World& w, EmitterSampling mode, Defect defect)
   return c;
 }
 
+Counts& operator+=(Counts& a, const Counts& b) {
+  a.checked += b.checked;
+  a.pdf_mismatches += b.pdf_mismatches;
+  a.weight_mismatches += b.weight_mismatches;
+  return a;
+}
+
+// The checks of a direct strategy, by what it samples. Every enumerator is
+// named and there is no default: a new strategy fails the build here
+// (-Werror=switch) until this battery knows how to check it.
 Counts check(const World& w, Strategy strategy, Defect defect) {
   switch (strategy) {
     case Strategy::kUniformHemisphere: return check_direction_strategy(w, UniformHemisphereStrategy{defect});
     case Strategy::kCosineHemisphere: return check_direction_strategy(w, CosineHemisphereStrategy{defect});
     case Strategy::kBsdf: return check_direction_strategy(w, BsdfStrategy{defect});
     case Strategy::kLightArea: return check_light_strategy(w, EmitterSampling::kArea, defect);
-    default: return check_light_strategy(w, EmitterSampling::kSolidAngle, defect);
+    case Strategy::kLightSolidAngle: return check_light_strategy(w, EmitterSampling::kSolidAngle, defect);
+    // MIS draws its samples from bsdf and light_solid_angle and weighs them by
+    // those two strategies' pdf(): both must agree with what they sample.
+    case Strategy::kMisBalance:
+    case Strategy::kMisPower:
+    case Strategy::kMisOneSample: {
+      Counts c = check_direction_strategy(w, BsdfStrategy{defect});
+      c += check_light_strategy(w, EmitterSampling::kSolidAngle, defect);
+      return c;
+    }
+    case Strategy::kPathNaive:
+    case Strategy::kPathMis: break;
   }
+  ADD_FAILURE() << strategy_name(strategy) << " is not a direct strategy";
+  return {};
 }
 
-const std::vector<Strategy> kStrategies{Strategy::kUniformHemisphere, Strategy::kCosineHemisphere, Strategy::kBsdf,
-                                        Strategy::kLightArea, Strategy::kLightSolidAngle};
+// Every direct strategy of core/strategy.h's table.
+const std::vector<Strategy> kStrategies = direct_strategies();
 
 class StrategyConsistency : public testing::TestWithParam<std::string> {};
 

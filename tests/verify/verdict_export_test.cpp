@@ -17,6 +17,7 @@
 
 #include "core/strategy.h"
 #include "verify/harness.h"
+#include "verify/verdict_table.h"
 #include "verify/verdict_export.h"
 
 namespace furnace::verify {

@@ -1,0 +1,97 @@
+#include "verify/suite.h"
+
+#include <string>
+#include <vector>
+
+namespace furnace::verify {
+
+std::string scene_dir() { return FURNACE_SCENE_DIR; }
+
+std::string case_label(const RenderOptions& options) {
+  std::string label = strategy_name(options.strategy);
+  if (is_path_tracer(options.strategy))
+    label += options.max_depth == kUnlimitedDepth ? "/inf" : "/d" + std::to_string(options.max_depth);
+  if (options.light_selection == LightSelection::kPower) label += "@power";
+  return label;
+}
+
+std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
+  struct Entry {
+    const char* scene;
+    std::vector<Strategy> strategies;
+    int max_depth;
+    LightSelection selection = LightSelection::kUniform;
+  };
+  std::vector<Strategy> direct = direct_strategies();
+  std::vector<Strategy> paths = path_tracing_strategies();
+  std::vector<Strategy> everything = direct;
+  everything.insert(everything.end(), paths.begin(), paths.end());
+  // Scenes with point lights: only the strategies that sample lights see them.
+  // The same set on the environment maps: their 100× sun makes the hemisphere
+  // strategies too skewed for per-pixel tests at 4096 spp (Cochran's rule
+  // leaves ~95 % of pixels untested); tests/integration/environment_map_test.cpp
+  // runs those at 16384 spp.
+  std::vector<Strategy> delta_aware;
+  for (Strategy s : everything)
+    if (strategy_sees_delta_lights(s)) delta_aware.push_back(s);
+  // Glossy receivers (Phong n = 10 and 100): the strategies whose estimate
+  // involves the lobe's value (hemisphere sampling adds only power-less rows;
+  // under the constant sky light_area samples exactly like light_solid_angle).
+  const std::vector<Strategy> glossy_sphere = {Strategy::kLightArea, Strategy::kLightSolidAngle, Strategy::kBsdf,
+                                               Strategy::kMisBalance, Strategy::kMisPower, Strategy::kMisOneSample};
+  const std::vector<Strategy> glossy_sky = {Strategy::kLightSolidAngle, Strategy::kBsdf, Strategy::kMisBalance,
+                                            Strategy::kMisPower, Strategy::kMisOneSample};
+  const std::vector<Entry> entries = {
+      {"disk_occluder.json", everything, kUnlimitedDepth},
+      {"sphere_light.json", direct, kUnlimitedDepth},
+      {"sphere_occluder.json", direct, kUnlimitedDepth},
+      {"rectangle_light.json", direct, kUnlimitedDepth},
+      {"environment_blocker.json", direct, kUnlimitedDepth},
+      {"three_lights.json", everything, kUnlimitedDepth},
+      {"three_lights.json", delta_aware, kUnlimitedDepth, LightSelection::kPower},
+      {"polygon_occluder.json", everything, kUnlimitedDepth},
+      {"environment_map.json", delta_aware, kUnlimitedDepth},
+      {"environment_map_tilted.json", delta_aware, kUnlimitedDepth},
+      {"point_light.json", delta_aware, kUnlimitedDepth},
+      {"point_light_unoccluded.json", delta_aware, kUnlimitedDepth},
+      {"point_and_area.json", delta_aware, kUnlimitedDepth},
+      {"point_and_area.json", delta_aware, kUnlimitedDepth, LightSelection::kPower},
+      {"white_furnace.json", paths, kUnlimitedDepth},
+      {"convex_furnace.json", paths, kUnlimitedDepth},
+      {"enclosure_box.json", paths, kUnlimitedDepth},
+      {"enclosure_box.json", paths, 4},
+      {"enclosure_box_rho5.json", paths, kUnlimitedDepth},
+      {"enclosure_sphere.json", paths, kUnlimitedDepth},
+      {"enclosure_blockers.json", paths, kUnlimitedDepth},
+      {"mirror_disk.json", paths, kUnlimitedDepth},
+      {"glossy_sphere_light.json", glossy_sphere, kUnlimitedDepth},
+      {"glossy_environment.json", glossy_sky, kUnlimitedDepth},
+      // Hard cases, each there for one bug class (README, "The built-in suite").
+      // Receivers and camera rays that see the backs of one-sided lights.
+      {"back_facing_emitters.json", everything, kUnlimitedDepth},
+      // Occluders and lights 1e-5 … 1e-3 above the receiver (camera below them).
+      {"near_contact.json", everything, kUnlimitedDepth},
+      // Receivers within ~3° of the planes of a disk and a rectangle light:
+      // those lights subtend too little for hemisphere sampling to find them.
+      {"grazing_emitters.json", delta_aware, kUnlimitedDepth},
+      // Lights of 1e-8 … 1e-6 sr: only light sampling ever finds them.
+      {"tiny_lights.json", delta_aware, kUnlimitedDepth},
+  };
+  std::vector<Case> cases;
+  for (const Entry& e : entries) {
+    for (Strategy s : e.strategies) {
+      Case c;
+      c.scene_path = scene_dir() + "/" + e.scene;
+      c.options.strategy = s;
+      c.options.spp = spp;
+      c.options.seed = seed;
+      c.options.threads = threads;
+      c.options.max_depth = e.max_depth;
+      c.options.light_selection = e.selection;
+      cases.push_back(c);
+    }
+  }
+  return cases;
+}
+
+}  // namespace furnace::verify
