@@ -19,10 +19,9 @@
 #include "core/error.h"
 #include "stats/pixel_tests.h"
 #include "stats/statistics.h"
+#include "verify/resources.h"
 
 namespace furnace::verify {
-
-std::string scene_dir() { return FURNACE_SCENE_DIR; }
 
 int min_calibrated_spp(Strategy strategy) {
   // `furnace sweep --strategy NAME --seeds 10 --spp N`, per-case α 0.05; a

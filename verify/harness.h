@@ -12,6 +12,7 @@
 
 #include "core/scene.h"
 #include "renderer/render.h"
+#include "verify/resources.h"  // scene_dir(), which the suite's cases and tests use
 
 namespace furnace::verify {
 
@@ -182,8 +183,6 @@ std::vector<double> reference_for(const Scene& scene, const RenderOptions& optio
 // per-pixel reference (row-major, the scene camera's width) is not finite: a
 // scene whose exact answer overflows double precision cannot be verified.
 void require_finite_reference(const std::vector<double>& reference, const Scene& scene);
-
-std::string scene_dir();
 
 // How many of the least powerful cases the table's summary names, per test.
 inline constexpr size_t kWeakestCasesListed = 5;
