@@ -170,6 +170,20 @@ CLI::Option* max_depth_option(CLI::Option* option) {
       ->type_name("SEGMENTS|unlimited");
 }
 
+CLI::Option* add_threads_option(CLI::App* command, int& threads) {
+  return command->add_option("--threads", threads, "Worker threads (0: all)")
+      ->capture_default_str()->transform(integer_in(0, kMaxThreads));
+}
+
+CLI::Option* add_seed_option(CLI::App* command, uint64_t& seed) {
+  return command->add_option("--seed", seed, "Random seed")->capture_default_str()->transform(seed_value());
+}
+
+CLI::Option* add_strategies_option(CLI::App* command, std::vector<Strategy>& strategies) {
+  return command->add_option("--strategy", strategies, "Strategy name(s); default: all")
+      ->transform(strategy_by_name())->type_name("TEXT");
+}
+
 void set_contract_footer(CLI::App* command, const std::string& footer) {
   command->footer(footer.empty() ? std::string(kExitContract) : footer + "\n" + kExitContract);
 }

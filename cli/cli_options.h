@@ -98,6 +98,14 @@ CLI::Validator family_alpha();
 // direct lighting), a number >= 1 or the word "unlimited" (kUnlimitedDepth).
 CLI::Option* max_depth_option(CLI::Option* option);
 
+// Options several subcommands share, worded and checked alike:
+// --threads N ("Worker threads (0: all)"), --seed S ("Random seed") and
+// --strategy NAME... ("Strategy name(s); default: all"), the first two
+// showing their default.
+CLI::Option* add_threads_option(CLI::App* command, int& threads);
+CLI::Option* add_seed_option(CLI::App* command, uint64_t& seed);
+CLI::Option* add_strategies_option(CLI::App* command, std::vector<Strategy>& strategies);
+
 // Ends `command`'s --help with `footer` (if any), then the exit-code contract.
 void set_contract_footer(CLI::App* command, const std::string& footer = "");
 

@@ -24,9 +24,8 @@ CLI::App* add_render_command(CLI::App& app, RenderCommandOptions& o) {
   command->add_option("--defect", r.defect, "Negative-control defect to inject (tests only)")
       ->transform(defect_by_name())->type_name("TEXT")->default_str(defect_name(r.defect));
   command->add_option("--spp", r.spp, "Samples per pixel")->capture_default_str()->transform(integer_in(1, kMaxSpp));
-  command->add_option("--seed", r.seed, "Random seed")->capture_default_str()->transform(seed_value());
-  command->add_option("--threads", r.threads, "Worker threads (0: all)")
-      ->capture_default_str()->transform(integer_in(0, kMaxThreads));
+  add_seed_option(command, r.seed);
+  add_threads_option(command, r.threads);
   command->add_option("--output,-o", o.output, "Output EXR path")->capture_default_str()->check(output_file());
   command->add_flag("--allow-nonfinite", o.allow_nonfinite,
                     "Exit 0 even if some samples were NaN or Inf (dropped and counted; default: exit 1)");

@@ -18,14 +18,12 @@ CLI::App* add_report_command(CLI::App& app, ReportCommandOptions& o) {
   CLI::App* command = app.add_subcommand("report", "Write convergence reports (error against spp and time, plots, "
                                          "images; HTML, Markdown, CSV) for the built-in suite or the given scenes");
   command->add_option("--scene", o.scenes, "Scene file(s); default: the built-in suite");
-  command->add_option("--strategy", o.strategies, "Strategy name(s); default: all")
-      ->transform(strategy_by_name())->type_name("TEXT");
+  add_strategies_option(command, o.strategies);
   command->add_option("--min-spp", o.min_spp, "Smallest spp (doubled up to --max-spp)")
       ->capture_default_str()->transform(integer_in(2, kMaxSpp));
   command->add_option("--max-spp", o.max_spp, "Largest spp")->capture_default_str()->transform(integer_in(2, kMaxSpp));
-  command->add_option("--seed", o.seed, "Random seed")->capture_default_str()->transform(seed_value());
-  command->add_option("--threads", o.threads, "Worker threads (0: all)")
-      ->capture_default_str()->transform(integer_in(0, kMaxThreads));
+  add_seed_option(command, o.seed);
+  add_threads_option(command, o.threads);
   command->add_option("--output-dir", o.output_dir, "Directory for index.html, its PNG files, report.json, "
                       "convergence.md and convergence.csv (created before any rendering)")
       ->capture_default_str()->check(output_directory());

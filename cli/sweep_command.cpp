@@ -16,14 +16,12 @@ namespace furnace::cli {
 CLI::App* add_sweep_command(CLI::App& app, SweepCommandOptions& o) {
   CLI::App* command =
       app.add_subcommand("sweep", "Measure the false-alarm rate of the verification over many seeds (slow)");
-  command->add_option("--strategy", o.strategies, "Strategy name(s); default: all")
-      ->transform(strategy_by_name())->type_name("TEXT");
+  add_strategies_option(command, o.strategies);
   command->add_option("--seeds", o.seeds, "Seeds per case")->capture_default_str()->transform(integer_in(1, 100000));
   command->add_option("--spp", o.spp, spp_help())->capture_default_str()->transform(integer_in(2, kMaxSpp));
   command->add_option("--case-alpha", o.case_alpha, "False-alarm level of each case")
       ->capture_default_str()->check(number_in(1e-6, 0.5));
-  command->add_option("--threads", o.threads, "Worker threads (0: all)")
-      ->capture_default_str()->transform(integer_in(0, kMaxThreads));
+  add_threads_option(command, o.threads);
   set_contract_footer(command, "sweep exits 1 when some case rejects significantly more often than --case-alpha.");
   return command;
 }

@@ -17,8 +17,7 @@ CLI::App* add_verify_command(CLI::App& app, VerifyCommandOptions& o) {
   CLI::App* command =
       app.add_subcommand("verify", "Render the analytic scenes and test them against their exact references");
   CLI::Option* scene = command->add_option("--scene", o.scenes, "Scene file(s); default: the built-in suite");
-  command->add_option("--strategy", o.strategies, "Strategy name(s); default: all")
-      ->transform(strategy_by_name())->type_name("TEXT");
+  add_strategies_option(command, o.strategies);
   command
       ->add_option_function<LightSelection>(
           "--light-selection", [&o](const LightSelection& s) { o.light_selection = s; },
@@ -28,9 +27,8 @@ CLI::App* add_verify_command(CLI::App& app, VerifyCommandOptions& o) {
   command->add_option("--defect", o.defect, "Inject a negative-control defect (the run must then fail)")
       ->transform(defect_by_name())->type_name("TEXT")->default_str(defect_name(o.defect));
   command->add_option("--spp", o.spp, spp_help())->capture_default_str()->transform(integer_in(2, kMaxSpp));
-  command->add_option("--seed", o.seed, "Random seed")->capture_default_str()->transform(seed_value());
-  command->add_option("--threads", o.threads, "Worker threads (0: all)")
-      ->capture_default_str()->transform(integer_in(0, kMaxThreads));
+  add_seed_option(command, o.seed);
+  add_threads_option(command, o.threads);
   command->add_option("--alpha", o.alpha, "Family-wise false-alarm probability of the whole run")
       ->capture_default_str()->check(family_alpha());
   max_depth_option(command->add_option("--max-depth", o.max_depth,
