@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <optional>
 #include <system_error>
 
@@ -139,6 +140,58 @@ CLI::Validator output_directory() {
         return "";
       },
       "DIR");
+}
+
+CLI::Validator strategy_by_name() {
+  std::vector<std::pair<std::string, Strategy>> names;
+  for (const StrategyInfo& info : kStrategyTable) names.emplace_back(info.name, info.strategy);
+  return enum_by_name(names);
+}
+
+CLI::Validator defect_by_name() {
+  std::vector<std::pair<std::string, Defect>> names;
+  for (const DefectInfo& info : kDefectTable) names.emplace_back(info.name, info.defect);
+  return enum_by_name(names);
+}
+
+CLI::Validator light_selection_by_name() {
+  const std::map<std::string, LightSelection> by_name = light_selection_names();
+  return enum_by_name(std::vector<std::pair<std::string, LightSelection>>(by_name.begin(), by_name.end()));
+}
+
+CLI::Validator family_alpha() { return number_in(1e-12, 0.5); }
+
+CLI::Option* max_depth_option(CLI::Option* option) {
+  const std::map<std::string, int> words{{"unlimited", kUnlimitedDepth}};
+  // transform() puts each validator first: the word is replaced by its
+  // number, then the number checked and made canonical.
+  return option->transform(integer_in(1, kUnlimitedDepth).description(""))
+      ->transform(CLI::Transformer(words, CLI::ignore_case).description(""))
+      ->type_name("SEGMENTS|unlimited");
+}
+
+CLI::Option* add_threads_option(CLI::App* command, int& threads) {
+  return command->add_option("--threads", threads, "Worker threads (0: all)")
+      ->capture_default_str()->transform(integer_in(0, kMaxThreads));
+}
+
+CLI::Option* add_seed_option(CLI::App* command, uint64_t& seed) {
+  return command->add_option("--seed", seed, "Random seed")->capture_default_str()->transform(seed_value());
+}
+
+CLI::Option* add_strategies_option(CLI::App* command, std::vector<Strategy>& strategies) {
+  return command->add_option("--strategy", strategies, "Strategy name(s); default: all")
+      ->transform(strategy_by_name())->type_name("TEXT");
+}
+
+void set_contract_footer(CLI::App* command, const std::string& footer) {
+  command->footer(footer.empty() ? std::string(kExitContract) : footer + "\n" + kExitContract);
+}
+
+std::string command_line_text(int argc, char** argv) {
+  std::string text = "furnace";
+  for (int i = 1; i < argc; ++i) text += std::string(" ") + argv[i];
+  return text;
 }
 
 void create_output_directory(const std::string& dir, const std::string& option) {

@@ -12,13 +12,20 @@
 // reject what CLI11's own conversion would accept silently: NaN and ±inf for
 // numbers (CLI::Range lets NaN through), "-1" or 2^64 for a seed (strtoull
 // wraps both to 2^64 − 1), "010" (octal 8 to strtoll). An accepted integer is
-// rewritten in canonical decimal so CLI11's conversion reads the same value.
+// rewritten in canonical decimal so CLI11's conversion reads the same value:
+// bind integer_in and seed_value with transform(), never check(), which runs
+// a validator on a copy of the text and drops the rewrite.
 #pragma once
 
 #include <cstdint>
 #include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
 
 #include <CLI/CLI.hpp>
+
+#include "core/strategy.h"
 
 namespace furnace::cli {
 
@@ -47,6 +54,63 @@ CLI::Validator output_file(bool stdout_dash = false);
 // An output directory that exists (or can be created: the nearest existing
 // ancestor is a writable directory, and no component is a file).
 CLI::Validator output_directory();
+
+// A name of one vocabulary (`names`, in the order --help lists them) stored
+// in the option's enum variable: the name is looked up here, once, and CLI11
+// is handed the enumerator's number, which it converts into the enum.
+// Anything else, a number included, is refused in CLI11's IsMember words:
+// "power3 not in {power,uniform}". Bind it with transform(), as integer_in.
+template <typename Enum>
+CLI::Validator enum_by_name(std::vector<std::pair<std::string, Enum>> names) {
+  static_assert(std::is_enum_v<Enum>);
+  std::string set;
+  for (const auto& [name, value] : names) set += (set.empty() ? "{" : ",") + name;
+  set += "}";
+  return CLI::Validator(
+      [names, set](std::string& text) -> std::string {
+        for (const auto& [name, value] : names)
+          if (name == text) {
+            text = std::to_string(static_cast<std::underlying_type_t<Enum>>(value));
+            return "";
+          }
+        return text + " not in " + set;
+      },
+      set);
+}
+// The vocabularies of core/strategy.h, from their tables: strategies and
+// defects in table order, light selections by name (as --help always listed
+// them).
+CLI::Validator strategy_by_name();
+CLI::Validator defect_by_name();
+CLI::Validator light_selection_by_name();
+
+// Upper bounds of the integer options: 2^24 spp keeps spp × pixels × path
+// length far inside 64-bit counters; 1024 threads is beyond any machine the
+// tests run on while still catching a mistyped number.
+inline constexpr int kMaxSpp = 1 << 24;
+inline constexpr int kMaxThreads = 1024;
+// α of a whole run, in [1e-12, 0.5]: at least 1e-12 so that its Šidák share
+// of one test among ~10⁵ (cases × pixels) is still a representable level.
+CLI::Validator family_alpha();
+
+// Makes `option` a --max-depth, the same for render, verify, check and
+// export: the longest path in segments (the camera segment counts as 1; 2 is
+// direct lighting), a number >= 1 or the word "unlimited" (kUnlimitedDepth).
+CLI::Option* max_depth_option(CLI::Option* option);
+
+// Options several subcommands share, worded and checked alike:
+// --threads N ("Worker threads (0: all)"), --seed S ("Random seed") and
+// --strategy NAME... ("Strategy name(s); default: all"), the first two
+// showing their default.
+CLI::Option* add_threads_option(CLI::App* command, int& threads);
+CLI::Option* add_seed_option(CLI::App* command, uint64_t& seed);
+CLI::Option* add_strategies_option(CLI::App* command, std::vector<Strategy>& strategies);
+
+// Ends `command`'s --help with `footer` (if any), then the exit-code contract.
+void set_contract_footer(CLI::App* command, const std::string& footer = "");
+
+// "furnace ARG1 ARG2 ...", as the reports record the run.
+std::string command_line_text(int argc, char** argv);
 
 // Creates `dir` (and its parents) or throws furnace::Error naming `option`
 // and the reason; call before any work whose result goes there.

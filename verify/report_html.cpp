@@ -15,6 +15,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/provenance.h"
+#include "verify/resources.h"
 
 extern char** environ;
 
@@ -93,11 +94,7 @@ PlotTools find_plot_tools() {
     throw Error(fmt::format("report needs Python 3 with matplotlib for its plots and images (Debian: apt-get install "
                             "python3-matplotlib; or set FURNACE_PYTHON); tried {}.",
                             tried));
-  tools.script = env_or_empty("FURNACE_REPORT_SCRIPT");
-  if (tools.script.empty()) tools.script = FURNACE_REPORT_SCRIPT;
-  if (!std::filesystem::is_regular_file(tools.script))
-    throw Error(fmt::format("report needs its plotting script, and '{}' is not a file (set FURNACE_REPORT_SCRIPT).",
-                            tools.script));
+  tools.script = report_script();
   return tools;
 }
 

@@ -13,8 +13,9 @@
 // python3 on PATH, then /usr/bin/python3 (where Debian's python3-matplotlib
 // lives when PATH has another Python first); the first that imports
 // matplotlib is used. None: bad input (exit 2), one line naming what is
-// missing. The script is $FURNACE_REPORT_SCRIPT if set, else the source
-// tree's scripts/plot_report.py.
+// missing. The script is found by verify/resources.h: $FURNACE_REPORT_SCRIPT
+// if set, else the installed share/furnace/plot_report.py beside the
+// executable, else the source tree's scripts/plot_report.py.
 #pragma once
 
 #include <cstdint>

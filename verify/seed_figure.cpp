@@ -6,6 +6,7 @@
 #include "core/scene.h"
 #include "renderer/render.h"
 #include "verify/harness.h"
+#include "verify/resources.h"
 
 namespace furnace::verify {
 

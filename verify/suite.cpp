@@ -5,8 +5,6 @@
 
 namespace furnace::verify {
 
-std::string scene_dir() { return FURNACE_SCENE_DIR; }
-
 std::string case_label(const RenderOptions& options) {
   std::string label = strategy_name(options.strategy);
   if (is_path_tracer(options.strategy))

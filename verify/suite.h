@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "renderer/render.h"
+#include "verify/resources.h"  // scene_dir(), where the suite's scenes are
 
 namespace furnace::verify {
 
@@ -26,8 +27,5 @@ std::string case_label(const RenderOptions& options);
 // strategies against analytic::reference_image, path tracers against
 // analytic::global_reference_image), at `spp` samples per pixel.
 std::vector<Case> default_suite(int spp, uint64_t seed, int threads);
-
-// The folder of the built-in scenes.
-std::string scene_dir();
 
 }  // namespace furnace::verify

@@ -140,6 +140,96 @@ TEST(ParseErrorMessage, NamesAnUnknownSubcommandOrListsThem) {
   EXPECT_EQ(none.find('\n'), std::string::npos) << none;
 }
 
+// Parses `args` (after the program name) into a fresh app built by `bind`;
+// returns CLI11's message, or empty when parsing succeeded.
+template <typename Bind>
+std::string parse_with(Bind bind, std::vector<std::string> args) {
+  CLI::App app{"t"};
+  bind(app);
+  std::reverse(args.begin(), args.end());  // CLI11 takes them reversed
+  try {
+    app.parse(args);
+  } catch (const CLI::ParseError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The validator's text is what CLI11 converts: bound with transform(), a
+// leading zero is decimal; bound with check() (the negative control), the
+// rewrite is dropped and strtoll reads octal.
+TEST(IntegerIn, BoundWithTransformTheOptionReadsDecimal) {
+  int spp = 0;
+  EXPECT_EQ(parse_with([&](CLI::App& app) { app.add_option("--spp", spp)->transform(integer_in(1, 100)); },
+                       {"--spp", "010"}), "");
+  EXPECT_EQ(spp, 10);
+  EXPECT_EQ(parse_with([&](CLI::App& app) { app.add_option("--spp", spp)->check(integer_in(1, 100)); },
+                       {"--spp", "010"}), "");
+  EXPECT_EQ(spp, 8);
+}
+
+TEST(MaxDepthOption, TakesUnlimitedInAnyCaseAndCanonicalNumbers) {
+  int depth = 0;
+  const auto bind = [&](CLI::App& app) { max_depth_option(app.add_option("--max-depth", depth)); };
+  EXPECT_EQ(parse_with(bind, {"--max-depth", "Unlimited"}), "");
+  EXPECT_EQ(depth, kUnlimitedDepth);
+  EXPECT_EQ(parse_with(bind, {"--max-depth", "010"}), "");
+  EXPECT_EQ(depth, 10);
+  for (const char* bad : {"0", "infinite", "-3", "2.5"})
+    EXPECT_NE(parse_with(bind, {"--max-depth", bad}), "") << bad;
+}
+
+// Every name of each table parses to its own row's enumerator, once, in the
+// option's enum variable.
+TEST(EnumByName, EveryTableNameParsesToItsEnumerator) {
+  for (const StrategyInfo& info : kStrategyTable) {
+    Strategy s = Strategy(-1);
+    EXPECT_EQ(parse_with([&](CLI::App& app) { app.add_option("--strategy", s)->transform(strategy_by_name()); },
+                         {"--strategy", info.name}), "");
+    EXPECT_EQ(s, info.strategy) << info.name;
+  }
+  for (const DefectInfo& info : kDefectTable) {
+    Defect d = Defect(-1);
+    EXPECT_EQ(parse_with([&](CLI::App& app) { app.add_option("--defect", d)->transform(defect_by_name()); },
+                         {"--defect", info.name}), "");
+    EXPECT_EQ(d, info.defect) << info.name;
+  }
+  for (const auto& [name, selection] : light_selection_names()) {
+    LightSelection l = LightSelection(-1);
+    EXPECT_EQ(parse_with([&](CLI::App& app) { app.add_option("--light-selection", l)->transform(light_selection_by_name()); },
+                         {"--light-selection", name}), "");
+    EXPECT_EQ(l, selection) << name;
+  }
+  std::vector<Strategy> several;
+  EXPECT_EQ(parse_with([&](CLI::App& app) { app.add_option("--strategy", several)->transform(strategy_by_name()); },
+                       {"--strategy", "bsdf", "--strategy", "path_mis"}), "");
+  EXPECT_EQ(several, (std::vector<Strategy>{Strategy::kBsdf, Strategy::kPathMis}));
+}
+
+// Anything but a name is refused in IsMember's words, an enumerator's number
+// included (CLI11's CheckedTransformer would take "2" for light_area).
+TEST(EnumByName, RefusesOtherWordsAndNumbersNamingTheValueAndTheNames) {
+  const auto message_for = [](const std::string& value) {
+    LightSelection l = LightSelection::kUniform;
+    return parse_with([&](CLI::App& app) { app.add_option("--light-selection", l)->transform(light_selection_by_name()); },
+                      {"--light-selection", value});
+  };
+  EXPECT_NE(message_for("flux").find("--light-selection: flux not in {power,uniform}"), std::string::npos)
+      << message_for("flux");
+  for (const char* bad : {"1", "0", "Power", "", "power "}) EXPECT_NE(message_for(bad), "") << bad;
+  Strategy s = Strategy::kLightArea;
+  EXPECT_NE(parse_with([&](CLI::App& app) { app.add_option("--strategy", s)->transform(strategy_by_name()); },
+                       {"--strategy", "2"}), "");
+}
+
+// --help lists the names in table order.
+TEST(EnumByName, DescriptionListsTheNamesInTableOrder) {
+  std::string expected = "{";
+  for (const StrategyInfo& info : kStrategyTable) expected += std::string(expected.size() > 1 ? "," : "") + info.name;
+  EXPECT_EQ(strategy_by_name().get_description(), expected + "}");
+  EXPECT_EQ(light_selection_by_name().get_description(), "{power,uniform}");
+}
+
 }  // namespace
 }  // namespace furnace::cli
 

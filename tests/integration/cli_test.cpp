@@ -255,6 +255,17 @@ TEST(Cli, NonFiniteReferenceIsBadInput) {
   std::filesystem::remove_all(dir);
 }
 
+// Integers are decimal: CLI11's own conversion (strtoll, base 0) would read
+// "010" as octal 8; the validators hand it the canonical "10".
+TEST(Cli, LeadingZerosAreDecimal) {
+  const auto dir = temp_dir();
+  const Result r = run_cli("render --scene " + std::string(FURNACE_SCENE_DIR) + "/disk_occluder.json --spp 010 --threads 1 " +
+                           "--output " + (dir / "zeros.exr").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("10 spp"), std::string::npos) << r.output;
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Cli, InjectedDefectMakesVerifyFail) {
   const Result r = run_cli("verify --strategy light_area --defect drop_light_cosine --spp 256");
   EXPECT_EQ(r.exit_code, 1) << r.output;

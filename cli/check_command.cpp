@@ -1,0 +1,51 @@
+#include "cli/check_command.h"
+
+#include <map>
+#include <string>
+
+#include "cli/cli_options.h"
+#include "verify/harness.h"
+
+namespace furnace::cli {
+
+CLI::App* add_check_command(CLI::App& app, verify::CheckOptions& o) {
+  CLI::App* command =
+      app.add_subcommand("check", "Test another renderer's OpenEXR images of a scene against its exact reference");
+  command->add_option("--scene", o.scene_path, "Scene file the images are renders of")->required();
+  command->add_option("--image", o.image_paths,
+                      "OpenEXR image(s): K >= 2 independent renders (different seeds), or one furnace EXR (with "
+                      "variance.R/G/B and N channels)")->required();
+  o.alpha = verify::kDefaultFamilyAlpha;
+  command->add_option("--alpha", o.alpha, "Family-wise false-alarm probability")
+      ->capture_default_str()->check(family_alpha());
+  command->add_option("--max-detectable-bias", o.max_detectable_bias,
+                      "PASS needs the image-mean test to detect a relative bias this large with power 0.9 "
+                      "(else INCONCLUSIVE)")
+      ->capture_default_str()->check(number_in(0, 1, End::kOpen));
+  max_depth_option(command->add_option_function<int>(
+      "--max-depth", [&o](const int& segments) { o.max_depth = segments; },
+      "The reference's path length, as for render (default: unlimited where the scene has a closed-form global "
+      "answer, else direct lighting; 2 is direct lighting)"));
+  const std::map<std::string, verify::ChannelMode> channel_modes{{"gray", verify::ChannelMode::kGray},
+                                                                 {"rgb", verify::ChannelMode::kRgb}};
+  command->add_option("--channels", o.channels, "gray: test the mean of R, G, B (or Y); rgb: test R, G and B separately")
+      ->transform(CLI::CheckedTransformer(channel_modes, CLI::ignore_case).description(""))
+      ->type_name("gray|rgb")->default_str("gray");
+  command->add_option("--zmap", o.zmap_path, "Write the per-pixel t statistic to this OpenEXR file")
+      ->check(output_file().description(""))->type_name("FILE");
+  command->add_option("--json", o.json_path, "Write every number of the report as JSON to FILE ('-': stdout, "
+                      "the text report then goes to stderr)")
+      ->check(output_file(true).description(""))->type_name("FILE");
+  command->footer(
+      "Reference: a scene with a closed-form global-illumination answer (closed enclosures, white furnaces, scenes "
+      "whose light bounces at most once, mirrors in front of these) is checked against the full answer at unlimited "
+      "depth, what a path tracer without a depth limit computes; any other scene against direct lighting "
+      "(emission + one bounce, --max-depth 2), the only exact answer it has.\n"
+      "Verdict: PASS (exit 0) when no test rejects and the image-mean test detects a bias of --max-detectable-bias "
+      "with power 0.9; FAIL (exit 1) when any test rejects, whatever the power; bad input (exit 2, one sentence on "
+      "stderr); INCONCLUSIVE (exit 3) when nothing rejects but the test lacks that power (the report says how many "
+      "images or samples would give it).\n" + std::string(kExitContract));
+  return command;
+}
+
+}  // namespace furnace::cli

@@ -1,0 +1,111 @@
+#include "cli/export_command.h"
+
+#include <array>
+#include <filesystem>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "cli/cli_options.h"
+#include "core/error.h"
+#include "core/scene.h"
+#include "export/cycles.h"
+#include "export/pbrt_v4.h"
+
+namespace furnace::cli {
+
+namespace {
+
+void write_pbrt_v4_file(const Scene& scene, const ExportCommandOptions& o) {
+  if (o.emitter_grid || o.sphere_subdivisions)
+    throw Error("options --emitter-grid and --sphere-subdivisions apply to --format cycles only (pbrt-v4 "
+                "renders rectangles and spheres exactly).");
+  exporter::PbrtV4Options options;
+  if (o.spp) options.spp = *o.spp;
+  options.seed = o.seed;
+  options.max_segments = o.max_segments;
+  options.image_filename = std::filesystem::path(o.output).stem().string() + ".exr";
+  exporter::write_pbrt_v4(scene, options, o.output);
+}
+
+void write_cycles_file(const Scene& scene, const ExportCommandOptions& o) {
+  if (o.seed)
+    throw Error("option --seed is not written into a Cycles script: pass it to the script (-- --seed S or "
+                "--seeds A-B).");
+  exporter::CyclesOptions options;
+  if (o.spp) options.spp = *o.spp;
+  options.max_segments = o.max_segments;
+  if (o.emitter_grid) options.emitter_grid = *o.emitter_grid;
+  if (o.sphere_subdivisions) options.sphere_subdivisions = *o.sphere_subdivisions;
+  exporter::write_cycles(scene, options, o.output);
+}
+
+struct ExportFormatInfo {
+  ExportFormat format;
+  const char* name;  // --format's value
+  void (*write)(const Scene& scene, const ExportCommandOptions& options);
+};
+
+// In the order --help lists them.
+constexpr std::array<ExportFormatInfo, 2> kExportFormats = {{
+    {ExportFormat::kPbrtV4, "pbrt-v4", write_pbrt_v4_file},
+    {ExportFormat::kCycles, "cycles", write_cycles_file},
+}};
+
+// Every enumerator 0 … kExportFormats.size() − 1 has exactly one row.
+constexpr bool every_format_has_one_row() {
+  for (size_t v = 0; v < kExportFormats.size(); ++v) {
+    int rows = 0;
+    for (const ExportFormatInfo& info : kExportFormats) rows += info.format == ExportFormat(v);
+    if (rows != 1) return false;
+  }
+  return true;
+}
+static_assert(every_format_has_one_row(), "kExportFormats needs one row per ExportFormat");
+
+const ExportFormatInfo& format_info(ExportFormat format) {
+  for (const ExportFormatInfo& info : kExportFormats)
+    if (info.format == format) return info;
+  check_failed("every ExportFormat has a row in kExportFormats", __FILE__, __LINE__);  // the static_assert above
+}
+
+}  // namespace
+
+CLI::App* add_export_command(CLI::App& app, ExportCommandOptions& o) {
+  CLI::App* command = app.add_subcommand("export", "Write a scene in another renderer's format (refused, exit 2, "
+                                         "when that format cannot express it exactly)");
+  command->add_option("--scene", o.scene_path, "Scene file (JSON)")->required();
+  std::vector<std::pair<std::string, ExportFormat>> formats;
+  for (const ExportFormatInfo& info : kExportFormats) formats.emplace_back(info.name, info.format);
+  command->add_option("--format", o.format, "Target format")
+      ->required()->transform(enum_by_name(formats))->type_name("TEXT");
+  command->add_option_function<int>("--spp", [&o](const int& spp) { o.spp = spp; },
+                                    "Samples per pixel (pbrt-v4 default 256, cycles default 128)")
+      ->transform(integer_in(1, kMaxSpp));
+  command->add_option_function<uint64_t>("--seed", [&o](const uint64_t& seed) { o.seed = seed; },
+                                         "pbrt-v4: seed written into the file (default: none, the renderer's own "
+                                         "--seed chooses)")
+      ->transform(seed_value());
+  max_depth_option(command->add_option("--max-depth", o.max_segments, "Longest path in segments, the camera's "
+                                       "included, or 'unlimited' (default unlimited); the file names the matching "
+                                       "furnace check --max-depth"));
+  command->add_option_function<int>("--emitter-grid", [&o](const int& n) { o.emitter_grid = n; },
+                                    "cycles: cut each emitting rectangle or triangle into a grid of N x N cells")
+      ->default_str(std::to_string(exporter::CyclesOptions{}.emitter_grid))->transform(integer_in(1, 256));
+  command->add_option_function<int>("--sphere-subdivisions", [&o](const int& level) { o.sphere_subdivisions = level; },
+                                    "cycles: icosphere level of each sphere (20*4^L triangles)")
+      ->default_str(std::to_string(exporter::CyclesOptions{}.sphere_subdivisions))->transform(integer_in(0, 7));
+  command->add_option("--output,-o", o.output, "Output file")->required()->check(output_file());
+  set_contract_footer(command);
+  return command;
+}
+
+int run_export(const ExportCommandOptions& o) {
+  const Scene scene = load_scene(o.scene_path);
+  const ExportFormatInfo& format = format_info(o.format);
+  format.write(scene, o);
+  fmt::print("exported {} ({}) for {} -> {}\n", scene.name, scene.source, format.name, o.output);
+  return kExitPass;
+}
+
+}  // namespace furnace::cli
