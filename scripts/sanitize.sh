@@ -10,9 +10,9 @@
 # Usage: scripts/sanitize.sh [TARGET...]: with targets (e.g. core_tests
 # fuzz_tests furnace), only those are built and only the tests of their areas
 # run (CTest names start with the area, the binary's name up to its first
-# underscore: core_tests -> core., verify_cli_tests -> verify.). The binaries
+# underscore: core_tests -> core., cli_tests -> cli.). The binaries
 # of the two labels are core_tests analytic_tests renderer_tests export_tests
-# verify_check_tests verify_cli_tests (unit) and fuzz_tests (fuzz, with the
+# verify_check_tests cli_tests (unit) and fuzz_tests (fuzz, with the
 # furnace binary it runs): naming them skips building the statistical, report
 # and slow test binaries, which these labels do not run.
 #
@@ -62,7 +62,7 @@ targets=()
 for t in "$@"; do targets+=(--target "$t"); done
 cmake --build "$build" -j "$jobs" "${targets[@]}"
 
-# The areas of the built test binaries (verify_cli_tests -> ^verify\.), or
+# The areas of the built test binaries (cli_tests -> ^cli\.), or
 # all. A binary of an area that was not built registers one unlabelled
 # *_NOT_BUILT test, which the label selection leaves out.
 selection=()
