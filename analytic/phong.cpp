@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "analytic/receiver_integrals.h"
 #include "analytic/unsupported.h"
 #include "core/error.h"
 
@@ -45,12 +46,14 @@ double phong_brdf(double albedo, double exponent, double cos_alpha) {
 }
 
 PhongReceiver::PhongReceiver(const Vec3& n, const Vec3& wo, double albedo, double exponent)
-    : Receiver(n, wo),
+    : ReceiverModel(n, wo),
       albedo(albedo),
       exponent(exponent),
       bsdf_ratio_(albedo * albedo * (exponent + 2) * (exponent + 2) / (2 * kPi * (exponent + 1))) {}
 
-BsdfValue PhongReceiver::at(double cos_theta, double cos_alpha) const {
+// inline (a hint): the machinery (receiver_integrals.h, instantiated below)
+// calls it at every quadrature node; only this file calls it directly.
+inline BsdfValue PhongReceiver::at(double cos_theta, double cos_alpha) const {
   const double power = lobe_power(exponent, cos_alpha);
   BsdfValue value;
   value.f_cos = phong_brdf_from_power(albedo, exponent, cos_alpha, power) * cos_theta;
@@ -60,6 +63,8 @@ BsdfValue PhongReceiver::at(double cos_theta, double cos_alpha) const {
 }
 
 std::vector<double> PhongReceiver::parameters() const { return {double(BsdfType::kPhong), albedo, exponent}; }
+
+template class ReceiverModel<PhongReceiver>;
 
 double phong_sphere_reflectance(const PhongReceiver& receiver, const Vec3& center, double radius) {
   return light_reflectance(receiver, ReceiverLight{false, center, radius, 1.0, 1.0});

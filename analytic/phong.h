@@ -44,7 +44,7 @@ inline constexpr double kPhongQuadratureTolerance = kReceiverQuadratureTolerance
 double phong_brdf(double albedo, double exponent, double cos_alpha);
 
 // The glossy receiver at one point: its frame and lobe.
-class PhongReceiver final : public Receiver {
+class PhongReceiver final : public ReceiverModel<PhongReceiver> {
  public:
   PhongReceiver(const Vec3& n, const Vec3& wo, double albedo, double exponent);
   double albedo = 0;
@@ -58,6 +58,8 @@ class PhongReceiver final : public Receiver {
  private:
   double bsdf_ratio_;  // ρ²(e+2)²/(2π(e+1)): (f·cos θ)²/p_b per cos^e α·cos²θ
 };
+// Instantiated once, in phong.cpp.
+extern template class ReceiverModel<PhongReceiver>;
 
 // ∫_{cone ∩ n·ω>0} f·(n·ω) dω over the cone of a sphere of radius R whose
 // centre is at `center` relative to the receiving point (|center| > R): the

@@ -2,9 +2,10 @@
 // given by two functions, its value f and its sampling density p_b, for one
 // view direction. From those two alone this file gives the reflected radiance
 // and the second moment E[Y²] of every direct strategy's single-sample
-// estimator, by one light-integral machinery (cap quadrature, below). A new
-// BSDF supplies a Receiver (and its closed forms where it has them), never a
-// strategy switch: the one switch over the estimators is in receiver.cpp.
+// estimator, by one light-integral machinery (cap quadrature, below;
+// receiver_integrals.h). A new BSDF supplies a Receiver (and its closed forms
+// where it has them), never a strategy switch: the one switch over the
+// estimators is second_moment_of in receiver_integrals.h.
 //
 // Why two cosines suffice: an isotropic BRDF at a fixed ωo is a function of
 // ωi through n·ωi and ωo·ωi, and with r = 2(n·ωo)n − ωo the mirror direction,
@@ -70,6 +71,16 @@ struct BsdfValue {
   double f_cos2_over_pdf = 0;  // (f·(n·ωi))²/p_b, written by the BSDF without cancelling factors, sr⁻¹
 };
 
+// One light as the receiver integrals see it: a sphere (centre relative to
+// the receiving point, which lies outside it), or the constant environment.
+struct ReceiverLight {
+  bool environment = false;
+  Vec3 center;
+  double radius = 0;
+  double radiance = 0;
+  double pmf = 1;  // selection probability (light-sampling strategies)
+};
+
 // A receiving point's frame and BSDF for one view direction: what a BSDF
 // supplies to be integrated (see the file comment).
 class Receiver {
@@ -92,16 +103,24 @@ class Receiver {
   virtual std::vector<double> parameters() const = 0;
   // "a Phong receiver": how refusals name it.
   virtual std::string name() const = 0;
+
+  // The machinery (receiver_integrals.h) instantiated for this BSDF:
+  // ReceiverModel<R> defines both; see light_reflectance and
+  // receiver_second_moment below.
+  virtual double light_reflectance(const ReceiverLight& light) const = 0;
+  virtual double second_moment(Strategy strategy, const std::vector<ReceiverLight>& lights) const = 0;
 };
 
-// One light as the receiver integrals see it: a sphere (centre relative to
-// the receiving point, which lies outside it), or the constant environment.
-struct ReceiverLight {
-  bool environment = false;
-  Vec3 center;
-  double radius = 0;
-  double radiance = 0;
-  double pmf = 1;  // selection probability (light-sampling strategies)
+// A BSDF's receiver: class MyReceiver final : public ReceiverModel<MyReceiver>
+// with at(), vanishes_below_mirror_plane(), parameters() and name(); its .cpp
+// includes receiver_integrals.h and instantiates template class
+// ReceiverModel<MyReceiver>, so the machinery calls MyReceiver::at inline.
+template <class R>
+class ReceiverModel : public Receiver {
+ public:
+  using Receiver::Receiver;
+  double light_reflectance(const ReceiverLight& light) const final;
+  double second_moment(Strategy strategy, const std::vector<ReceiverLight>& lights) const final;
 };
 
 // The lights the receiver model solves at point p (normal n) of object

@@ -18,6 +18,7 @@
 
 #include "analytic/moments.h"
 #include "analytic/phong.h"
+#include "analytic/receiver_integrals.h"
 #include "analytic/reference.h"
 #include "core/error.h"
 
@@ -35,10 +36,10 @@ constexpr double kWrongFactor = 1.1;
 // A Lambertian surface supplying only its two functions: f = ρ/π and
 // p_b = cos θ/π (times `pdf_factor`, 1 for the true density); `extra_cosine`
 // writes f·cos²θ for f·cos θ (a defect).
-class LambertianReceiver final : public Receiver {
+class LambertianReceiver final : public ReceiverModel<LambertianReceiver> {
  public:
   LambertianReceiver(const Vec3& n, const Vec3& wo, double albedo, double pdf_factor = 1, bool extra_cosine = false)
-      : Receiver(n, wo), albedo_(albedo), pdf_factor_(pdf_factor), extra_cosine_(extra_cosine) {}
+      : ReceiverModel(n, wo), albedo_(albedo), pdf_factor_(pdf_factor), extra_cosine_(extra_cosine) {}
   BsdfValue at(double cos_theta, double) const override {
     BsdfValue v;
     const double f = albedo_ / kPi;
