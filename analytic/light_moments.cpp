@@ -3,10 +3,17 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <string>
+#include <variant>
 
 #include <boost/math/quadrature/tanh_sinh.hpp>
 
+#include "analytic/circle_region.h"
+#include "analytic/disk_light.h"
+#include "analytic/emitter.h"
 #include "analytic/error_ledger.h"
+#include "analytic/planar_light.h"
 #include "analytic/polygon.h"
 #include "analytic/polygon_patch.h"
 #include "analytic/sin_cos.h"
@@ -282,5 +289,111 @@ double polygon_solid_angle(const std::vector<Vec3>& vertices) {
   for (size_t k = 1; k + 1 < vertices.size(); ++k) sigma += triangle_solid_angle(vertices[0], vertices[k], vertices[k + 1]);
   return std::fabs(sigma);
 }
+
+// ---------------------------------------------------------------------------
+// Scene-level kernels of one object (light_moments.h, second half).
+
+namespace {
+
+// ∫_visible h³/(h²+s²)^(5/2) dA: uniform-hemisphere kernel cos²θ·cos θ'/r².
+// G(s) = (1 − c³)/3 with c = h/r; G/s² = (1 + c + c²)/(3r(r + h)), from
+// 1 − c = s²/(r(r + h)), so nothing cancels for small s.
+double hemisphere_kernel(const DiskLightView& v) {
+  const double h = v.h;
+  return contour_quadrature(visible_boundary(v.light, v.occluder_images), [h](double s2) {
+    const double r = std::sqrt(h * h + s2);
+    const double c = h / r;
+    return (1 + c + c * c) / (3 * r * (r + h));
+  });
+}
+
+// ∫_visible h⁴/(h²+s²)⁴ dA: light-area kernel (cos θ cos θ'/r²)².
+double area_kernel(const DiskLightView& v) {
+  const double h2 = v.h * v.h;
+  return contour_quadrature(visible_boundary(v.light, v.occluder_images), [h2](double s2) {
+    const double r2 = h2 + s2;
+    return (3 * h2 * h2 + 3 * h2 * s2 + s2 * s2) / (6 * h2 * r2 * r2 * r2);
+  });
+}
+
+// emitter_cos2_kernel (hemisphere) or emitter_area_kernel: one body, as
+// both take the same paths through the geometry.
+double emitter_kernel(bool hemisphere, const Scene& scene, size_t i, const Vec3& p, const Vec3& n,
+                      std::optional<size_t> receiver) {
+  const Object& object = scene.objects[i];
+  // Rectangles and triangles: the exact planar path handles occluders and the
+  // horizon for both kernels; an unoccluded light's area kernel has its own
+  // closed form (polygon_area_kernel).
+  auto polygon_kernel = [&](const auto& polygon) {
+    if (hemisphere) return planar_light_cos2_solid_angle(scene, i, p, n, receiver);
+    if (emitter_irradiance(scene, i, p, n, receiver) == 0) return 0.0;
+    if (possible_blocker(scene, i, p, n, receiver)) return planar_light_area_kernel(scene, i, p, n, receiver);
+    return polygon_area_kernel(polygon_vertices_relative(polygon, p), n);
+  };
+  return std::visit(
+      overloaded{[&](const Disk&) {
+                   std::string reason;
+                   const auto view = disk_light_view(scene, i, p, n, receiver, &reason);
+                   // The light-area kernel of an unoccluded disk by the planar path
+                   // (small disks by the product rule, the foot point far outside by
+                   // the tail form): the circle path's contour terms cancel there.
+                   if (view && !hemisphere && view->occluder_images.empty())
+                     return planar_light_area_kernel(scene, i, p, n, receiver);
+                   if (view) return hemisphere ? hemisphere_kernel(*view) : area_kernel(*view);
+                   if (reason.empty()) return 0.0;
+                   // The exact planar path (tilted receivers, occluders as planar_light.h allows).
+                   return hemisphere ? planar_light_cos2_solid_angle(scene, i, p, n, receiver)
+                                     : planar_light_area_kernel(scene, i, p, n, receiver);
+                 },
+                 [&](const Sphere& sphere) {
+                   if (emitter_irradiance(scene, i, p, n, receiver) == 0) return 0.0;  // nothing of it reaches p
+                   require_unoccluded(scene, i, p, n, receiver);
+                   return hemisphere ? sphere_cos2_solid_angle(sphere.center - p, sphere.radius, n)
+                                     : sphere_area_kernel(sphere.center - p, sphere.radius, n);
+                 },
+                 [&](const Rectangle& r) { return polygon_kernel(r); },
+                 [&](const Triangle& t) { return polygon_kernel(t); }},
+      object.shape);
+}
+
+}  // namespace
+
+std::vector<Vec3> polygon_vertices_relative(const Rectangle& r, const Vec3& p) {
+  return {r.corner - p, r.corner + r.edge_u - p, r.corner + r.edge_u + r.edge_v - p, r.corner + r.edge_v - p};
+}
+std::vector<Vec3> polygon_vertices_relative(const Triangle& t, const Vec3& p) { return {t.p0 - p, t.p1 - p, t.p2 - p}; }
+
+
+double emitter_cos2_kernel(const Scene& scene, size_t i, const Vec3& p, const Vec3& n, std::optional<size_t> receiver) {
+  return emitter_kernel(true, scene, i, p, n, receiver);
+}
+
+double emitter_area_kernel(const Scene& scene, size_t i, const Vec3& p, const Vec3& n, std::optional<size_t> receiver) {
+  return emitter_kernel(false, scene, i, p, n, receiver);
+}
+
+double blocker_cos2_solid_angle(const Scene& scene, size_t j, const Vec3& p, const Vec3& n) {
+  const Object& o = scene.objects[j];
+  return std::visit(
+      overloaded{[&](const Sphere& s) { return sphere_cos2_solid_angle(s.center - p, s.radius, n); },
+                 [&](const Disk& d) {
+                   if (length(cross(normalize(d.normal), n)) > 1e-12) {
+                     // A tilted disk: the general planar path for the disk as a lone
+                     // two-sided emitter (as projected_solid_angle does for E).
+                     return planar_light_cos2_solid_angle(as_lone_unit_emitter(scene, j), 0, p, n, std::nullopt);
+                   }
+                   const Vec3 offset = d.center - p;
+                   const double h = dot(offset, n);
+                   const Frame f = Frame::from_normal(n);
+                   DiskLightView view;
+                   view.h = h;
+                   view.light = {dot(offset, f.s), dot(offset, f.t), d.radius};
+                   return hemisphere_kernel(view);
+                 },
+                 [&](const Rectangle& r) { return polygon_cos2_solid_angle(polygon_vertices_relative(r, p), n); },
+                 [&](const Triangle& t) { return polygon_cos2_solid_angle(polygon_vertices_relative(t, p), n); }},
+      o.shape);
+}
+
 
 }  // namespace furnace::analytic

@@ -1,11 +1,16 @@
-// Moment kernels of unoccluded sphere and polygon emitters, used by
-// second_moment (moments.h). Every function integrates over the part of the
-// emitter above p's horizon (cos θ > 0) that faces p; vertices and centres
-// are relative to p; n is p's unit normal. Dimensionless unless stated.
+// Moment kernels of emitters, used by second_moment (moments.h): first the
+// closed forms of unoccluded sphere and polygon emitters, then the
+// scene-level kernels of one object, which pick the closed form or the exact
+// planar / circle-region path its geometry and occluders need. Every function
+// integrates over the part of the emitter above p's horizon (cos θ > 0) that
+// faces p; vertices and centres are relative to p; n is p's unit normal.
+// Dimensionless unless stated.
 #pragma once
 
+#include <optional>
 #include <vector>
 
+#include "core/scene.h"
 #include "core/vec3.h"
 
 namespace furnace::analytic {
@@ -61,5 +66,30 @@ double polygon_area_kernel(const std::vector<Vec3>& vertices, const Vec3& n);
 //   Ω_abc = 2·atan2(a·(b × c), 1 + a·b + b·c + c·a)   (a, b, c unit).
 double sphere_solid_angle(double D, double R);
 double polygon_solid_angle(const std::vector<Vec3>& vertices);
+
+// ---------------------------------------------------------------------------
+// Scene-level kernels of object i of `scene` at p (receiver: the object p
+// lies on, ignored as an occluder), over the part of it visible from p.
+
+// A rectangle's or triangle's vertices relative to p.
+std::vector<Vec3> polygon_vertices_relative(const Rectangle& r, const Vec3& p);
+std::vector<Vec3> polygon_vertices_relative(const Triangle& t, const Vec3& p);
+
+// K_cos2 = ∫_visible max(cos θ, 0)² dω of emitter i (the uniform-hemisphere
+// and solid-angle estimators' kernel). A parallel disk light at height h:
+// ∫_visible h³/(h²+s²)^(5/2) dA by contour quadrature (moments.h); a tilted
+// one or a polygon: the exact planar path (planar_light.h); a sphere: the
+// closed form above, unoccluded.
+double emitter_cos2_kernel(const Scene& scene, size_t i, const Vec3& p, const Vec3& n, std::optional<size_t> receiver);
+
+// K_area = ∫_visible (max(cos θ, 0)·cos θ'/r²)² dA of emitter i (the
+// light-area estimator's kernel), m⁻²: as emitter_cos2_kernel, the
+// unoccluded disk and polygon by the planar path's closed forms.
+double emitter_area_kernel(const Scene& scene, size_t i, const Vec3& p, const Vec3& n, std::optional<size_t> receiver);
+
+// ∫_object max(cos θ, 0)² dω of object j (any shape, unoccluded): the
+// cos²-weighted solid angle an environment blocker hides from the
+// uniform-hemisphere estimator.
+double blocker_cos2_solid_angle(const Scene& scene, size_t j, const Vec3& p, const Vec3& n);
 
 }  // namespace furnace::analytic

@@ -1,37 +1,21 @@
-// Direct lighting of a normalised Phong receiver by cap quadrature (phong.h).
+// The normalised Phong lobe as a Receiver (phong.h); the integrals are the
+// receiver model's (receiver.cpp).
 #include "analytic/phong.h"
 
-#include <algorithm>
-#include <optional>
 #include <cmath>
 #include <string>
-#include <utility>
-#include <variant>
 #include <vector>
 
-#include "analytic/disk_light.h"
-#include "analytic/occlusion.h"
-#include "analytic/point_light.h"
-#include "analytic/sin_cos.h"
+#include "analytic/receiver_integrals.h"
 #include "analytic/unsupported.h"
-#include "core/adaptive_quadrature.h"
 #include "core/error.h"
 
 namespace furnace::analytic {
 
 namespace {
 
-// Bisection levels of each nested quadrature: the lobe peak of e = 100 has a
-// width ~0.1 rad, resolved after a few levels; the cap edges are smooth in
-// the chosen variables.
-constexpr int kPhongQuadratureDepth = 18;
-
-// Relative height (to the object's size and distance) below which an object
-// counts as lying in the receiver's tangent plane: a few hundred ulps.
-constexpr double kCoplanarTolerance = 1e-13;
-
-// cos^e α for cos α > 0, else 0: the lobe's shape, which the integrands
-// below take from Direction::lobe_power (computed once per direction).
+// cos^e α for cos α > 0, else 0: the lobe's shape, computed once per
+// direction (PhongReceiver::at) for f, p_b and their ratio.
 double lobe_power(double exponent, double cos_alpha) {
   return cos_alpha > 0 ? std::pow(cos_alpha, exponent) : 0.0;
 }
@@ -48,271 +32,6 @@ double phong_brdf_from_power(double albedo, double exponent, double cos_alpha, d
   return cos_alpha > 0 ? albedo * (exponent + 2) / (2 * kPi) * power : 0.0;
 }
 
-// Arcs of ψ ∈ ℝ (length ≤ 2π) where A + B cos ψ + C sin ψ > 0.
-std::vector<std::pair<double, double>> positive_arcs(double A, double B, double C) {
-  const double M = std::hypot(B, C);
-  if (M <= std::fabs(A))
-    return A > 0 ? std::vector<std::pair<double, double>>{{0, 2 * kPi}} : std::vector<std::pair<double, double>>{};
-  const double centre = std::atan2(C, B), half = std::acos(-A / M);
-  return {{centre - half, centre + half}};
-}
-
-// One ring of a cap: polar angle γ about the axis and what depends on it only.
-struct Ring {
-  double cos_gamma = 1, sin_gamma = 0;
-  double measure = 0;       // dω = measure · du dψ
-  double cos_emission = 1;  // sphere: cos θ' at the near intersection
-  double distance = 0;      // sphere: distance to the near intersection
-};
-
-// A sphere's cone seen from outside, outer variable v ∈ [0, π/2] with
-// sin γ = k sin v, k = R/D: cos θ' = cos v, d = D cos γ − R cos v.
-struct SphereCap {
-  double D, R;
-  double k() const { return R / D; }
-  double u_max() const { return kPi / 2; }
-  Ring at(double v) const {
-    Ring ring;
-    const double s = k() * std::sin(v);
-    ring.sin_gamma = s;
-    ring.cos_gamma = std::sqrt((1 - s) * (1 + s));
-    ring.measure = s * k() * std::cos(v) / ring.cos_gamma;  // sin γ dγ/dv
-    ring.cos_emission = std::cos(v);
-    ring.distance = D * ring.cos_gamma - R * ring.cos_emission;
-    return ring;
-  }
-  // The outer variable of the ring at polar angle γ (π/2 beyond the cone).
-  double u_of_gamma(double gamma) const {
-    const double s = std::sin(gamma) / k();
-    return gamma >= kPi / 2 || s >= 1 ? kPi : std::asin(s);
-  }
-};
-
-// The lobe's own cap cos α ≥ 0 about r, outer variable α ∈ [0, π/2].
-struct LobeCap {
-  double u_max() const { return kPi / 2; }
-  Ring at(double alpha) const {
-    Ring ring;
-    ring.cos_gamma = std::cos(alpha);
-    ring.sin_gamma = std::sin(alpha);
-    ring.measure = ring.sin_gamma;
-    return ring;
-  }
-  double u_of_gamma(double gamma) const { return gamma; }
-};
-
-// What an integrand sees of a direction ω in the cap.
-struct Direction {
-  double cos_theta;   // n·ω > 0
-  double cos_alpha;   // r·ω
-  double lobe_power;  // lobe_power(exponent, cos_alpha): one std::pow per direction, however many terms use it
-  const Ring* ring;
-};
-
-// ∫ g(Direction) dω over the part of the cap (axis `axis`) above the horizon
-// of n, for a lobe of the given exponent.
-template <class Cap, class G>
-double cap_integral(const Cap& cap, const Vec3& axis, const Vec3& n, const Vec3& r, double exponent, G g) {
-  const Frame frame = Frame::from_normal(axis);
-  const double na = dot(n, axis), ns = dot(n, frame.s), nt = dot(n, frame.t);
-  const double ra = dot(r, axis), rs = dot(r, frame.s), rt = dot(r, frame.t);
-  const double psi_mirror = std::atan2(rt, rs);
-  auto outer = [&](double u) {
-    const Ring ring = cap.at(u);
-    double sum = 0;
-    for (auto [lo, hi] : positive_arcs(ring.cos_gamma * na, ring.sin_gamma * ns, ring.sin_gamma * nt)) {
-      // ψ over [a, b] by the half-angle variable of each of its pieces (HalfAngleArcs: no sin or cos at the nodes).
-      auto arc_integral = [&](double a, double b) {
-        const HalfAngleArcs arcs = HalfAngleArcs::of(a, b);
-        double value = 0;
-        for (int k = 0; k < arcs.count; ++k) {
-          const HalfAngleArc& arc = arcs.piece[k];
-          auto inner = [&](double tau) {
-            double c, s, dpsi_dtau;
-            arc.at(tau, &c, &s, &dpsi_dtau);
-            const double cos_theta = ring.cos_gamma * na + ring.sin_gamma * (c * ns + s * nt);
-            if (!(cos_theta > 0)) return 0.0;
-            const double cos_alpha = ring.cos_gamma * ra + ring.sin_gamma * (c * rs + s * rt);
-            return g(Direction{cos_theta, cos_alpha, lobe_power(exponent, cos_alpha), &ring}) * ring.measure *
-                   dpsi_dtau;
-          };
-          value += adaptive_gauss_kronrod_relative(inner, -arc.tau_max, arc.tau_max, kPhongQuadratureTolerance,
-                                                   kPhongQuadratureDepth);
-        }
-        return value;
-      };
-      // Cut the arc at the lobe's peak azimuth.
-      double peak = psi_mirror;
-      while (peak < lo) peak += 2 * kPi;
-      while (peak >= lo + 2 * kPi) peak -= 2 * kPi;
-      if (peak > lo && peak < hi) sum += arc_integral(lo, peak) + arc_integral(peak, hi);
-      else sum += arc_integral(lo, hi);
-    }
-    return sum;
-  };
-  // Cuts: where the horizon starts to cut the rings (γ = |π/2 − β|, β the
-  // axis' angle from n) and the ring through the mirror direction.
-  const double beta = std::atan2(length(cross(n, axis)), na);
-  std::vector<double> cuts{0.0, cap.u_max(), cap.u_of_gamma(std::fabs(kPi / 2 - beta)),
-                           cap.u_of_gamma(std::atan2(length(cross(r, axis)), ra))};
-  std::sort(cuts.begin(), cuts.end());
-  double total = 0;
-  for (size_t i = 0; i + 1 < cuts.size(); ++i) {
-    const double a = cuts[i], b = std::min(cuts[i + 1], cap.u_max());
-    if (b > a) total += adaptive_gauss_kronrod_relative(outer, a, b, kPhongQuadratureTolerance, kPhongQuadratureDepth);
-  }
-  return total;
-}
-
-// One light as the Phong integrals see it.
-struct Light {
-  bool environment = false;
-  Vec3 center;  // sphere centre relative to the receiving point
-  double radius = 0;
-  double radiance = 0;
-  double pmf = 1;  // selection probability (light-sampling strategies)
-};
-
-template <class G>
-double light_integral(const Light& light, const PhongReceiver& receiver, G g) {
-  const Vec3 r = receiver.mirror();
-  if (light.environment) return cap_integral(LobeCap{}, r, receiver.n, r, receiver.exponent, g);
-  const double D = length(light.center);
-  return cap_integral(SphereCap{D, light.radius}, light.center / D, receiver.n, r, receiver.exponent, g);
-}
-
-// Solid angle of a sphere's cone: 2π(1 − cos γ) = 2π sin²γ/(1 + cos γ).
-double cone_solid_angle(double D, double R) {
-  const double s2 = (R / D) * (R / D);
-  return 2 * kPi * s2 / (1 + std::sqrt((1 - R / D) * (1 + R / D)));
-}
-
-// Density in solid angle of the light strategy that samples `light` (pmf
-// included): the cone for light_solid_angle, the surface for light_area, the
-// cosine-weighted sky for the environment. What depends on the light alone
-// is computed once per light (LightDensity's constructor), not per direction.
-struct LightDensity {
-  const Light& light;
-  bool by_area;
-  double cone = 0;  // the cone's solid angle (sphere, light_solid_angle)
-  double area = 0;  // the sphere's area (light_area)
-  LightDensity(const Light& l, bool area_sampling) : light(l), by_area(area_sampling) {
-    if (light.environment) return;
-    if (!by_area) cone = cone_solid_angle(length(light.center), light.radius);
-    area = 4 * kPi * light.radius * light.radius;
-  }
-  double operator()(const Direction& d) const {
-    if (light.environment) return light.pmf * d.cos_theta / kPi;
-    if (!by_area) return light.pmf / cone;
-    return light.pmf * d.ring->distance * d.ring->distance / (area * d.ring->cos_emission);
-  }
-};
-
-// Whether any part of the object rises above p's horizon. An object in p's
-// tangent plane (a coplanar neighbour, above the horizon by the round-off of
-// p) hides a solid angle of that order, far below the quadrature's
-// tolerance: it does not count.
-bool above_horizon(const Object& object, const Vec3& p, const Vec3& n) {
-  const BoundingSphere ball = bounding_sphere(object.shape);
-  const double round_off = kCoplanarTolerance * (ball.radius + length(ball.center - p));
-  return height_range(object.shape, p, n).hi > round_off;
-}
-
-std::vector<Light> phong_lights(const Scene& scene, const Vec3& p, const Vec3& n, size_t receiver,
-                                LightSelection selection) {
-  if (!scene.point_lights.empty()) unsupported_configuration(scene, "point lights over a Phong receiver");
-  const std::vector<double> pmf = light_selection_pmf(scene, selection);
-  std::vector<Light> lights;
-  size_t index = 0;
-  for (size_t i = 0; i < scene.objects.size(); ++i) {
-    const Object& object = scene.objects[i];
-    if (!object.is_emitter()) continue;
-    const double pmf_i = pmf[index++];
-    if (i == receiver) continue;
-    const auto* sphere = std::get_if<Sphere>(&object.shape);
-    if (!sphere) unsupported_configuration(scene, "the emitter '" + object.name + "' (only sphere lights) over a Phong receiver");
-    if (!(length(sphere->center - p) > sphere->radius))
-      unsupported_configuration(scene, "a Phong receiving point on or inside the sphere light '" + object.name + "'");
-    for (size_t j = 0; j < scene.objects.size(); ++j)
-      if (j != i && j != receiver && above_horizon(scene.objects[j], p, n))
-        unsupported_configuration(scene, "the object '" + scene.objects[j].name +
-                                             "' above a Phong receiver's horizon beside the sphere light '" +
-                                             object.name + "' (only unoccluded lights are solved)");
-    lights.push_back(Light{false, sphere->center - p, sphere->radius, object.emitted_radiance, pmf_i});
-  }
-  if (scene.environment.radiance > 0) {
-    if (scene.environment.map) unsupported_configuration(scene, "an environment map over a Phong receiver");
-    for (size_t j = 0; j < scene.objects.size(); ++j)
-      if (j != receiver && above_horizon(scene.objects[j], p, n))
-        unsupported_configuration(scene, "the environment blocked by '" + scene.objects[j].name + "' over a Phong receiver");
-    lights.push_back(Light{true, {}, 0, scene.environment.radiance, pmf.back()});
-  }
-  return lights;
-}
-
-}  // namespace
-
-double phong_brdf(double albedo, double exponent, double cos_alpha) {
-  return phong_brdf_from_power(albedo, exponent, cos_alpha, lobe_power(exponent, cos_alpha));
-}
-
-Vec3 PhongReceiver::mirror() const { return normalize(n * (2 * dot(n, wo)) - wo); }
-
-double phong_sphere_reflectance(const PhongReceiver& receiver, const Vec3& center, double radius) {
-  const Light light{false, center, radius, 1.0, 1.0};
-  return light_integral(light, receiver, [&](const Direction& d) {
-    return phong_brdf_from_power(receiver.albedo, receiver.exponent, d.cos_alpha, d.lobe_power) * d.cos_theta;
-  });
-}
-
-double phong_directional_albedo(const PhongReceiver& receiver) {
-  const Light light{true, {}, 0, 1.0, 1.0};
-  return light_integral(light, receiver, [&](const Direction& d) {
-    return phong_brdf_from_power(receiver.albedo, receiver.exponent, d.cos_alpha, d.lobe_power) * d.cos_theta;
-  });
-}
-
-namespace {
-
-// Under the environment alone (no sphere light) the result does not depend
-// on the receiving point, only on (n, ωo, the lobe, the sky, the strategy):
-// every pixel of a flat receiver asks the same question. A small per-thread
-// memo of recent answers, keyed on every input the result depends on,
-// saves the 2-D quadrature for all but the first such pixel; it returns the
-// very double the quadrature returned, so results do not depend on it.
-struct MemoKey {
-  int what;  // −1: the mean, else the Strategy
-  int selection;
-  Vec3 n, wo;
-  double albedo, exponent, radiance, pmf;
-  bool operator==(const MemoKey& o) const {
-    return what == o.what && selection == o.selection && n.x == o.n.x && n.y == o.n.y && n.z == o.n.z &&
-           wo.x == o.wo.x && wo.y == o.wo.y && wo.z == o.wo.z && albedo == o.albedo && exponent == o.exponent &&
-           radiance == o.radiance && pmf == o.pmf;
-  }
-};
-constexpr size_t kMemoEntries = 16;
-
-template <class Compute>
-double environment_memo(const MemoKey& key, Compute compute) {
-  thread_local std::vector<std::pair<MemoKey, double>> memo;
-  for (const auto& [k, value] : memo)
-    if (k == key) return value;
-  const double value = compute();
-  if (memo.size() == kMemoEntries) memo.erase(memo.begin());
-  memo.emplace_back(key, value);
-  return value;
-}
-
-// The memo key when the environment is the only light, else none.
-std::optional<MemoKey> environment_only_key(const std::vector<Light>& lights, const PhongReceiver& r, int what,
-                                            LightSelection selection) {
-  if (lights.size() != 1 || !lights[0].environment) return std::nullopt;
-  return MemoKey{what, int(selection), r.n, r.wo, r.albedo, r.exponent, lights[0].radiance, lights[0].pmf};
-}
-
-double phong_estimator_second_moment(Strategy strategy, const PhongReceiver& phong, const std::vector<Light>& lights);
-
 PhongReceiver receiver_at(const Scene& scene, const Vec3& n, const Vec3& wo, size_t receiver) {
   const Material& m = scene.objects[receiver].material;
   FURNACE_CHECK(m.type == BsdfType::kPhong);
@@ -322,99 +41,48 @@ PhongReceiver receiver_at(const Scene& scene, const Vec3& n, const Vec3& wo, siz
 
 }  // namespace
 
+double phong_brdf(double albedo, double exponent, double cos_alpha) {
+  return phong_brdf_from_power(albedo, exponent, cos_alpha, lobe_power(exponent, cos_alpha));
+}
+
+PhongReceiver::PhongReceiver(const Vec3& n, const Vec3& wo, double albedo, double exponent)
+    : ReceiverModel(n, wo),
+      albedo(albedo),
+      exponent(exponent),
+      bsdf_ratio_(albedo * albedo * (exponent + 2) * (exponent + 2) / (2 * kPi * (exponent + 1))) {}
+
+// inline (a hint): the machinery (receiver_integrals.h, instantiated below)
+// calls it at every quadrature node; only this file calls it directly.
+inline BsdfValue PhongReceiver::at(double cos_theta, double cos_alpha) const {
+  const double power = lobe_power(exponent, cos_alpha);
+  BsdfValue value;
+  value.f_cos = phong_brdf_from_power(albedo, exponent, cos_alpha, power) * cos_theta;
+  value.pdf_solid_angle = lobe_density(exponent, cos_alpha, power);
+  value.f_cos2_over_pdf = cos_alpha > 0 ? bsdf_ratio_ * power * cos_theta * cos_theta : 0.0;
+  return value;
+}
+
+std::vector<double> PhongReceiver::parameters() const { return {double(BsdfType::kPhong), albedo, exponent}; }
+
+template class ReceiverModel<PhongReceiver>;
+
+double phong_sphere_reflectance(const PhongReceiver& receiver, const Vec3& center, double radius) {
+  return light_reflectance(receiver, ReceiverLight{false, center, radius, 1.0, 1.0});
+}
+
+double phong_directional_albedo(const PhongReceiver& receiver) {
+  return light_reflectance(receiver, ReceiverLight{true, {}, 0, 1.0, 1.0});
+}
+
 double phong_reflected_radiance(const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo, size_t receiver) {
-  const PhongReceiver phong = receiver_at(scene, n, wo, receiver);
-  const std::vector<Light> lights = phong_lights(scene, p, n, receiver, LightSelection::kUniform);
-  auto compute = [&] {
-    double radiance = 0;
-    for (const Light& light : lights)
-      radiance += light.radiance * (light.environment ? phong_directional_albedo(phong)
-                                                      : phong_sphere_reflectance(phong, light.center, light.radius));
-    return radiance;
-  };
-  const auto key = environment_only_key(lights, phong, -1, LightSelection::kUniform);
-  return key ? environment_memo(*key, compute) : compute();
+  return receiver_reflected_radiance(scene, p, receiver_at(scene, n, wo, receiver), receiver);
 }
 
 double phong_second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo,
                            size_t receiver, LightSelection selection) {
   if (is_path_tracer(strategy))
     unsupported_configuration(scene, "the path tracer '" + strategy_name(strategy) + "' over a Phong receiver");
-  const PhongReceiver phong = receiver_at(scene, n, wo, receiver);
-  const std::vector<Light> lights = phong_lights(scene, p, n, receiver, selection);
-  const auto key = environment_only_key(lights, phong, int(strategy), selection);
-  auto compute = [&] { return phong_estimator_second_moment(strategy, phong, lights); };
-  return key ? environment_memo(*key, compute) : compute();
+  return receiver_second_moment(strategy, scene, p, receiver_at(scene, n, wo, receiver), receiver, selection);
 }
-
-namespace {
-
-double phong_estimator_second_moment(Strategy strategy, const PhongReceiver& phong, const std::vector<Light>& lights) {
-  const double e = phong.exponent;
-  // h = f·cos θ·L; h²/p_b written without the cancelling cos^e α:
-  // ρ²(e+2)²/(2π(e+1))·cos^e α·cos²θ·L².
-  const double bsdf_ratio = phong.albedo * phong.albedo * (e + 2) * (e + 2) / (2 * kPi * (e + 1));
-  const double c = kOneSampleBsdfProbability;
-  const int beta = strategy_info(strategy).mis_beta;
-  double moment = 0, bsdf2 = 0, light2 = 0, bsdf1 = 0, light1 = 0;
-  for (const Light& light : lights) {
-    const double L = light.radiance;
-    auto h = [&](const Direction& d) {
-      return phong_brdf_from_power(phong.albedo, e, d.cos_alpha, d.lobe_power) * d.cos_theta * L;
-    };
-    auto h2_over_bsdf = [&](const Direction& d) {
-      return d.cos_alpha > 0 ? bsdf_ratio * d.lobe_power * d.cos_theta * d.cos_theta * L * L : 0.0;
-    };
-    const LightDensity p_light(light, strategy == Strategy::kLightArea);
-    auto weight_bsdf = [&](const Direction& d) {
-      const double pb = lobe_density(e, d.cos_alpha, d.lobe_power), pl = p_light(d);
-      if (!(pb > 0)) return 0.0;
-      return beta == 2 ? pb * pb / (pb * pb + pl * pl) : pb / (pb + pl);
-    };
-    switch (strategy) {
-      case Strategy::kUniformHemisphere:
-        moment += light_integral(light, phong, [&](const Direction& d) { return 2 * kPi * h(d) * h(d); });
-        break;
-      case Strategy::kCosineHemisphere:
-        moment += light_integral(light, phong, [&](const Direction& d) { return kPi * h(d) * h(d) / d.cos_theta; });
-        break;
-      case Strategy::kBsdf:
-        moment += light_integral(light, phong, h2_over_bsdf);
-        break;
-      case Strategy::kLightArea:
-      case Strategy::kLightSolidAngle:
-        moment += light_integral(light, phong, [&](const Direction& d) { return h(d) * h(d) / p_light(d); });
-        break;
-      case Strategy::kMisBalance:
-      case Strategy::kMisPower: {
-        bsdf2 += light_integral(light, phong, [&](const Direction& d) {
-          const double w = weight_bsdf(d);
-          return w * w * h2_over_bsdf(d);
-        });
-        light2 += light_integral(light, phong, [&](const Direction& d) {
-          const double w = 1 - weight_bsdf(d);
-          return w * w * h(d) * h(d) / p_light(d);
-        });
-        bsdf1 += light_integral(light, phong, [&](const Direction& d) { return weight_bsdf(d) * h(d); });
-        light1 += light_integral(light, phong, [&](const Direction& d) { return (1 - weight_bsdf(d)) * h(d); });
-        break;
-      }
-      case Strategy::kMisOneSample:
-        moment += light_integral(light, phong, [&](const Direction& d) {
-          const double q = c * lobe_density(e, d.cos_alpha, d.lobe_power) + (1 - c) * p_light(d);
-          return q > 0 ? h(d) * h(d) / q : 0.0;
-        });
-        break;
-      case Strategy::kPathNaive:
-      case Strategy::kPathMis:
-        break;  // refused above
-    }
-  }
-  if (strategy == Strategy::kMisBalance || strategy == Strategy::kMisPower)
-    return bsdf2 + light2 + 2 * bsdf1 * light1;
-  return moment;
-}
-
-}  // namespace
 
 }  // namespace furnace::analytic

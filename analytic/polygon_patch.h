@@ -1,6 +1,6 @@
 // Integrals over the directions to the part of a planar polygon above a
 // receiver's horizon, by nested adaptive quadrature in the polygon plane's
-// spherical coordinates. Used by the MIS moments (moments.cpp).
+// spherical coordinates. Used by the MIS moments (mis_moments.cpp).
 #pragma once
 
 #include <algorithm>

@@ -58,15 +58,17 @@ double ray_radiance(const Scene& scene, const Vec3& origin, const Vec3& directio
   // Emission leaves the front face only, both faces of a two_sided object.
   const double le = (cos_view < 0 || object.two_sided) ? object.emitted_radiance : 0.0;
   if (object.material.albedo == 0) return le;
-  // A glossy receiver: the lobe integrated over the lights (phong.h), normal facing the viewer.
-  if (object.material.type == BsdfType::kPhong)
-    return le + phong_reflected_radiance(scene, hit->point, cos_view < 0 ? hit->normal : -hit->normal, -ray.direction,
-                                         hit->object_index);
-  if (object.material.type != BsdfType::kLambertian)
-    unsupported_configuration(scene, "a camera ray hitting the non-Lambertian, non-black object '" + object.name + "'");
-  // Two-sided Lambertian: shade with the normal facing the viewer.
+  // Shade with the normal facing the viewer (two-sided surfaces).
   const Vec3 n = cos_view < 0 ? hit->normal : -hit->normal;
-  return le + object.material.albedo * kInvPi * irradiance(scene, hit->point, n, hit->object_index);
+  switch (object.material.type) {
+    case BsdfType::kPhong:  // the lobe integrated over the lights (phong.h)
+      return le + phong_reflected_radiance(scene, hit->point, n, -ray.direction, hit->object_index);
+    case BsdfType::kLambertian:
+      return le + object.material.albedo * kInvPi * irradiance(scene, hit->point, n, hit->object_index);
+    case BsdfType::kMirror:
+      break;  // a delta lobe: no receiver model
+  }
+  unsupported_configuration(scene, "a camera ray hitting the non-Lambertian, non-black object '" + object.name + "'");
 }
 
 std::vector<double> reference_image(const Scene& scene) {

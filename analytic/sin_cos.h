@@ -6,6 +6,8 @@
 #pragma once
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "core/vec3.h"
 
@@ -109,5 +111,17 @@ struct HalfAngleArcs {
   }
   static constexpr double kHalfAngleArcMaxWidth = kPi;  // τ_max ≤ 1
 };
+
+// The arc of azimuths ψ (length ≤ 2π, none when empty) on which
+// A + B cos ψ + C sin ψ > 0: with M = √(B² + C²) the sum is A + M cos(ψ − ψ₀),
+// ψ₀ = atan2(C, B), positive on ψ₀ ± acos(−A/M) (everywhere if A ≥ M,
+// nowhere if A ≤ −M). The horizon n·ω > 0 on a ring of directions.
+inline std::vector<std::pair<double, double>> positive_arcs(double A, double B, double C) {
+  const double M = std::hypot(B, C);
+  if (M <= std::fabs(A))
+    return A > 0 ? std::vector<std::pair<double, double>>{{0, 2 * kPi}} : std::vector<std::pair<double, double>>{};
+  const double centre = std::atan2(C, B), half = std::acos(-A / M);
+  return {{centre - half, centre + half}};
+}
 
 }  // namespace furnace::analytic

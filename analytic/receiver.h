@@ -1,0 +1,155 @@
+// The receiver model: direct lighting of one surface point whose BSDF is
+// given by two functions, its value f and its sampling density p_b, for one
+// view direction. From those two alone this file gives the reflected radiance
+// and the second moment E[Y²] of every direct strategy's single-sample
+// estimator, by one light-integral machinery (cap quadrature, below;
+// receiver_integrals.h). A new BSDF supplies a Receiver (and its closed forms
+// where it has them), never a strategy switch: the one switch over the
+// estimators is second_moment_of in receiver_integrals.h.
+//
+// Why two cosines suffice: an isotropic BRDF at a fixed ωo is a function of
+// ωi through n·ωi and ωo·ωi, and with r = 2(n·ωo)n − ωo the mirror direction,
+//     ωo·ωi = 2(n·ωo)(n·ωi) − r·ωi,
+// so f and p_b are functions of cos θ = n·ωi and cos α = r·ωi.
+//
+// The estimators (only the names are shared with the renderer), each of
+// h(ω) = f(ωo, ω)·(n·ω)·Li(ω), Li the light's radiance along ω:
+//  - bsdf: ω drawn from p_b, Y = h/p_b (a direction below the horizon is a
+//    failed sample, Y = 0, which the integral over n·ω > 0 accounts for);
+//  - uniform_hemisphere (p = 1/(2π)), cosine_hemisphere (p = (n·ω)/π): Y = h/p;
+//  - light_solid_angle: a light chosen with pmf P, a sphere's cone uniformly
+//    (p_l = P/Ω), the constant environment cosine-weighted (p_l = P·(n·ω)/π);
+//  - light_area: a sphere's surface uniformly, p_l = P·d²/(A cos θ') with d
+//    the distance to the near intersection, θ' the emission angle, A = 4πR²;
+//    the environment as for light_solid_angle;
+//  - mis_balance, mis_power: one bsdf and one light_solid_angle sample,
+//    Veach's heuristic w_s = p_s^β/(p_b^β + p_l^β) (β = 1, 2):
+//      E[Y²] = E[Y_b²] + E[Y_l²] + 2 E[Y_b] E[Y_l],
+//      E[Y_s²] = ∫ w_s² h²/p_s dω, E[Y_s] = ∫ w_s h dω;
+//  - mis_one_sample: bsdf with probability c = kOneSampleBsdfProbability, else
+//    light_solid_angle, q = c·p_b + (1 − c)·p_l, E[Y²] = ∫ h²/q dω.
+// Every single-technique estimator has E[Y²] = ∫ h²/p dω over the support of
+// h, summed over the lights (whose solid angles do not overlap).
+//
+// Method: each light's directions are a spherical cap (a sphere's cone, or
+// for the environment a hemisphere: about r when the receiver's f vanishes
+// for cos α ≤ 0, as a lobe about the mirror direction does, else about n),
+// integrated in coordinates centred on the cap's axis: outer polar angle,
+// inner azimuth over the exact arcs where n·ω > 0 (n·ω = A + B cos ψ +
+// C sin ψ on a ring). Adaptive Gauss–Kronrod (core/adaptive_quadrature.h),
+// relative tolerance kReceiverQuadratureTolerance, with the outer interval
+// cut where the horizon starts to cut the rings and at the ring through the
+// mirror direction, and the inner arcs cut at the mirror direction's azimuth
+// (a lobe's peak). For a sphere the outer variable is v with
+// sin γ = (R/D)·sin v, so √(R² − D² sin²γ) = R cos v is smooth at the rim
+// (the light-area density's emission cosine).
+//
+// Domain: receiver points outside every sphere light, unoccluded lights and
+// an unblocked constant environment (receiver_lights refuses the rest),
+// viewer above the receiver (n·ωo > 0). Units: radiance W·m⁻²·sr⁻¹, second
+// moments its square.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/scene.h"
+#include "core/strategy.h"
+
+namespace furnace::analytic {
+
+// Relative tolerance of the nested quadratures (far below any test's power:
+// the suite detects relative biases of 1e-4 at best).
+inline constexpr double kReceiverQuadratureTolerance = 1e-9;
+
+// A receiver's BSDF at one incident direction ωi above its horizon.
+// Contract: pdf_solid_angle > 0 wherever f_cos > 0 (bsdf sampling covers f's
+// support, so it is unbiased); f_cos2_over_pdf is 0 where pdf_solid_angle is.
+struct BsdfValue {
+  double f_cos = 0;            // f(ωo, ωi)·(n·ωi), sr⁻¹
+  double pdf_solid_angle = 0;  // p_b(ωi), the BSDF's own sampling density, sr⁻¹
+  double f_cos2_over_pdf = 0;  // (f·(n·ωi))²/p_b, written by the BSDF without cancelling factors, sr⁻¹
+};
+
+// One light as the receiver integrals see it: a sphere (centre relative to
+// the receiving point, which lies outside it), or the constant environment.
+struct ReceiverLight {
+  bool environment = false;
+  Vec3 center;
+  double radius = 0;
+  double radiance = 0;
+  double pmf = 1;  // selection probability (light-sampling strategies)
+};
+
+// A receiving point's frame and BSDF for one view direction: what a BSDF
+// supplies to be integrated (see the file comment).
+class Receiver {
+ public:
+  Receiver(const Vec3& n, const Vec3& wo) : n(n), wo(wo) {}
+  virtual ~Receiver() = default;
+
+  Vec3 n;   // unit normal on the viewer's side
+  Vec3 wo;  // unit direction toward the viewer, n·ωo > 0
+
+  Vec3 mirror() const;  // r = 2(n·ωo)n − ωo
+
+  // The BSDF at the direction with n·ωi = cos_theta > 0 and r·ωi = cos_alpha.
+  virtual BsdfValue at(double cos_theta, double cos_alpha) const = 0;
+  // Whether f = 0 wherever cos α ≤ 0 (a lobe about r): the environment is
+  // then integrated over the hemisphere about r, else over the one about n.
+  virtual bool vanishes_below_mirror_plane() const = 0;
+  // Every number at() depends on besides the frame (BsdfType first): with
+  // the frame, the key of the environment memo in receiver.cpp.
+  virtual std::vector<double> parameters() const = 0;
+  // "a Phong receiver": how refusals name it.
+  virtual std::string name() const = 0;
+
+  // The machinery (receiver_integrals.h) instantiated for this BSDF:
+  // ReceiverModel<R> defines both; see light_reflectance and
+  // receiver_second_moment below.
+  virtual double light_reflectance(const ReceiverLight& light) const = 0;
+  virtual double second_moment(Strategy strategy, const std::vector<ReceiverLight>& lights) const = 0;
+};
+
+// A BSDF's receiver: class MyReceiver final : public ReceiverModel<MyReceiver>
+// with at(), vanishes_below_mirror_plane(), parameters() and name(); its .cpp
+// includes receiver_integrals.h and instantiates template class
+// ReceiverModel<MyReceiver>, so the machinery calls MyReceiver::at inline.
+template <class R>
+class ReceiverModel : public Receiver {
+ public:
+  using Receiver::Receiver;
+  double light_reflectance(const ReceiverLight& light) const final;
+  double second_moment(Strategy strategy, const std::vector<ReceiverLight>& lights) const final;
+};
+
+// The lights the receiver model solves at point p (normal n) of object
+// `receiver`, with their selection pmf: sphere emitters with nothing else
+// above p's horizon, and the constant environment with nothing above p's
+// horizon. Throws furnace::Error naming the scene and the configuration for
+// anything else (point lights, an environment map, other emitter shapes,
+// occluders, p on or inside a sphere light); `who` names the receiver.
+std::vector<ReceiverLight> receiver_lights(const Scene& scene, const Vec3& p, const Vec3& n, size_t receiver,
+                                           LightSelection selection, const std::string& who);
+
+// ∫ f·(n·ω) dω over the light's directions: the reflected radiance per unit
+// emitted radiance (the light's radiance and pmf are not used).
+double light_reflectance(const Receiver& receiver, const ReceiverLight& light);
+
+// Σ L·light_reflectance over the lights: the reflected radiance.
+double reflected_radiance(const Receiver& receiver, const std::vector<ReceiverLight>& lights);
+
+// E[Y²] of the direct strategy's single-sample estimator of that radiance.
+// Throws furnace::Error for a path tracer.
+double receiver_second_moment(Strategy strategy, const Receiver& receiver, const std::vector<ReceiverLight>& lights);
+
+// The scene-level forms: the radiance reflected toward receiver.wo at point p
+// of object `index` (direct lighting, emission excluded), and its estimators'
+// E[Y²]. Under the environment alone every point of a flat receiver asks the
+// same question: a small per-thread memo keyed on every input returns the
+// very double the quadrature returned, so results do not depend on it.
+double receiver_reflected_radiance(const Scene& scene, const Vec3& p, const Receiver& receiver, size_t index);
+double receiver_second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const Receiver& receiver,
+                              size_t index, LightSelection selection);
+
+}  // namespace furnace::analytic

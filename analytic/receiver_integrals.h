@@ -1,0 +1,248 @@
+// The receiver model's light-integral machinery (receiver.h), as templates
+// over the concrete receiver type R so that every quadrature node calls R::at
+// directly, not through the vtable (and the compiler may inline it). A BSDF
+// derives from ReceiverModel<R>
+// (receiver.h), includes this header in its own .cpp and instantiates the
+// machinery there once (template class ReceiverModel<R>;).
+// Internal to analytic/ (not installed).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "analytic/receiver.h"
+#include "analytic/sin_cos.h"
+#include "core/adaptive_quadrature.h"
+#include "core/error.h"
+
+namespace furnace::analytic {
+
+namespace receiver_detail {
+
+// Bisection levels of each nested quadrature: the lobe peak of a Phong
+// e = 100 has a width ~0.1 rad, resolved after a few levels; the cap edges
+// are smooth in the chosen variables.
+inline constexpr int kReceiverQuadratureDepth = 18;
+
+// One ring of a cap: polar angle γ about the axis and what depends on it only.
+struct Ring {
+  double cos_gamma = 1, sin_gamma = 0;
+  double measure = 0;       // dω = measure · du dψ
+  double cos_emission = 1;  // sphere: cos θ' at the near intersection
+  double distance = 0;      // sphere: distance to the near intersection
+};
+
+// A sphere's cone seen from outside, outer variable v ∈ [0, π/2] with
+// sin γ = k sin v, k = R/D: cos θ' = cos v, d = D cos γ − R cos v.
+struct SphereCap {
+  double D, R;
+  double k() const { return R / D; }
+  double u_max() const { return kPi / 2; }
+  Ring at(double v) const {
+    Ring ring;
+    const double s = k() * std::sin(v);
+    ring.sin_gamma = s;
+    ring.cos_gamma = std::sqrt((1 - s) * (1 + s));
+    ring.measure = s * k() * std::cos(v) / ring.cos_gamma;  // sin γ dγ/dv
+    ring.cos_emission = std::cos(v);
+    ring.distance = D * ring.cos_gamma - R * ring.cos_emission;
+    return ring;
+  }
+  // The outer variable of the ring at polar angle γ (π/2 beyond the cone).
+  double u_of_gamma(double gamma) const {
+    const double s = std::sin(gamma) / k();
+    return gamma >= kPi / 2 || s >= 1 ? kPi : std::asin(s);
+  }
+};
+
+// The hemisphere about the cap's axis (a lobe's own cap cos α ≥ 0 about r,
+// or the sky above n), outer variable α ∈ [0, π/2].
+struct LobeCap {
+  double u_max() const { return kPi / 2; }
+  Ring at(double alpha) const {
+    Ring ring;
+    ring.cos_gamma = std::cos(alpha);
+    ring.sin_gamma = std::sin(alpha);
+    ring.measure = ring.sin_gamma;
+    return ring;
+  }
+  double u_of_gamma(double gamma) const { return gamma; }
+};
+
+// What an integrand sees of a direction ω in the cap.
+struct Direction {
+  double cos_theta;  // n·ω > 0
+  double cos_alpha;  // r·ω
+  BsdfValue bsdf;    // receiver.at(cos_theta, cos_alpha): evaluated once per direction, however many terms use it
+  const Ring* ring;
+};
+
+// ∫ g(Direction) dω over the part of the cap (axis `axis`) above the
+// receiver's horizon, the receiver's BSDF evaluated once per direction.
+template <class R, class Cap, class G>
+double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
+  const Vec3& n = receiver.n;
+  const Vec3 r = receiver.mirror();
+  const Frame frame = Frame::from_normal(axis);
+  const double na = dot(n, axis), ns = dot(n, frame.s), nt = dot(n, frame.t);
+  const double ra = dot(r, axis), rs = dot(r, frame.s), rt = dot(r, frame.t);
+  const double psi_mirror = std::atan2(rt, rs);
+  auto outer = [&](double u) {
+    const Ring ring = cap.at(u);
+    double sum = 0;
+    for (auto [lo, hi] : positive_arcs(ring.cos_gamma * na, ring.sin_gamma * ns, ring.sin_gamma * nt)) {
+      // ψ over [a, b] by the half-angle variable of each of its pieces (HalfAngleArcs: no sin or cos at the nodes).
+      auto arc_integral = [&](double a, double b) {
+        const HalfAngleArcs arcs = HalfAngleArcs::of(a, b);
+        double value = 0;
+        for (int k = 0; k < arcs.count; ++k) {
+          const HalfAngleArc& arc = arcs.piece[k];
+          auto inner = [&](double tau) {
+            double c, s, dpsi_dtau;
+            arc.at(tau, &c, &s, &dpsi_dtau);
+            const double cos_theta = ring.cos_gamma * na + ring.sin_gamma * (c * ns + s * nt);
+            if (!(cos_theta > 0)) return 0.0;
+            const double cos_alpha = ring.cos_gamma * ra + ring.sin_gamma * (c * rs + s * rt);
+            return g(Direction{cos_theta, cos_alpha, receiver.R::at(cos_theta, cos_alpha), &ring}) * ring.measure *
+                   dpsi_dtau;
+          };
+          value += adaptive_gauss_kronrod_relative(inner, -arc.tau_max, arc.tau_max, kReceiverQuadratureTolerance,
+                                                   kReceiverQuadratureDepth);
+        }
+        return value;
+      };
+      // Cut the arc at the lobe's peak azimuth.
+      double peak = psi_mirror;
+      while (peak < lo) peak += 2 * kPi;
+      while (peak >= lo + 2 * kPi) peak -= 2 * kPi;
+      if (peak > lo && peak < hi) sum += arc_integral(lo, peak) + arc_integral(peak, hi);
+      else sum += arc_integral(lo, hi);
+    }
+    return sum;
+  };
+  // Cuts: where the horizon starts to cut the rings (γ = |π/2 − β|, β the
+  // axis' angle from n) and the ring through the mirror direction.
+  const double beta = std::atan2(length(cross(n, axis)), na);
+  std::vector<double> cuts{0.0, cap.u_max(), cap.u_of_gamma(std::fabs(kPi / 2 - beta)),
+                           cap.u_of_gamma(std::atan2(length(cross(r, axis)), ra))};
+  std::sort(cuts.begin(), cuts.end());
+  double total = 0;
+  for (size_t i = 0; i + 1 < cuts.size(); ++i) {
+    const double a = cuts[i], b = std::min(cuts[i + 1], cap.u_max());
+    if (b > a) total += adaptive_gauss_kronrod_relative(outer, a, b, kReceiverQuadratureTolerance, kReceiverQuadratureDepth);
+  }
+  return total;
+}
+
+// ∫ g(Direction) dω over the light's directions above the horizon: a
+// sphere's cone, or the sky's hemisphere where f can be non-zero.
+template <class R, class G>
+double light_integral(const ReceiverLight& light, const R& receiver, G g) {
+  if (light.environment)
+    return cap_integral(LobeCap{}, receiver.vanishes_below_mirror_plane() ? receiver.mirror() : receiver.n, receiver, g);
+  const double D = length(light.center);
+  return cap_integral(SphereCap{D, light.radius}, light.center / D, receiver, g);
+}
+
+// Solid angle of a sphere's cone: 2π(1 − cos γ) = 2π sin²γ/(1 + cos γ).
+inline double cone_solid_angle(double D, double R) {
+  const double s2 = (R / D) * (R / D);
+  return 2 * kPi * s2 / (1 + std::sqrt((1 - R / D) * (1 + R / D)));
+}
+
+// Density in solid angle of the light strategy that samples `light` (pmf
+// included): the cone for light_solid_angle, the surface for light_area, the
+// cosine-weighted sky for the environment. What depends on the light alone
+// is computed once per light (LightDensity's constructor), not per direction.
+struct LightDensity {
+  const ReceiverLight& light;
+  bool by_area;
+  double cone = 0;  // the cone's solid angle (sphere, light_solid_angle)
+  double area = 0;  // the sphere's area (light_area)
+  LightDensity(const ReceiverLight& l, bool area_sampling) : light(l), by_area(area_sampling) {
+    if (light.environment) return;
+    if (!by_area) cone = cone_solid_angle(length(light.center), light.radius);
+    area = 4 * kPi * light.radius * light.radius;
+  }
+  double operator()(const Direction& d) const {
+    if (light.environment) return light.pmf * d.cos_theta / kPi;
+    if (!by_area) return light.pmf / cone;
+    return light.pmf * d.ring->distance * d.ring->distance / (area * d.ring->cos_emission);
+  }
+};
+
+// E[Y²] of the strategy's estimator for receiver type R (receiver.h).
+template <class R>
+double second_moment_of(Strategy strategy, const R& receiver, const std::vector<ReceiverLight>& lights) {
+  const double c = kOneSampleBsdfProbability;
+  const int beta = strategy_info(strategy).mis_beta;
+  double moment = 0, bsdf2 = 0, light2 = 0, bsdf1 = 0, light1 = 0;
+  for (const ReceiverLight& light : lights) {
+    const double L = light.radiance;
+    auto h = [&](const Direction& d) { return d.bsdf.f_cos * L; };
+    auto h2_over_bsdf = [&](const Direction& d) { return d.bsdf.f_cos2_over_pdf * L * L; };
+    const LightDensity p_light(light, strategy == Strategy::kLightArea);
+    auto weight_bsdf = [&](const Direction& d) {
+      const double pb = d.bsdf.pdf_solid_angle, pl = p_light(d);
+      if (!(pb > 0)) return 0.0;
+      return beta == 2 ? pb * pb / (pb * pb + pl * pl) : pb / (pb + pl);
+    };
+    switch (strategy) {
+      case Strategy::kUniformHemisphere:
+        moment += light_integral(light, receiver, [&](const Direction& d) { return 2 * kPi * h(d) * h(d); });
+        break;
+      case Strategy::kCosineHemisphere:
+        moment += light_integral(light, receiver, [&](const Direction& d) { return kPi * h(d) * h(d) / d.cos_theta; });
+        break;
+      case Strategy::kBsdf:
+        moment += light_integral(light, receiver, h2_over_bsdf);
+        break;
+      case Strategy::kLightArea:
+      case Strategy::kLightSolidAngle:
+        moment += light_integral(light, receiver, [&](const Direction& d) { return h(d) * h(d) / p_light(d); });
+        break;
+      case Strategy::kMisBalance:
+      case Strategy::kMisPower: {
+        bsdf2 += light_integral(light, receiver, [&](const Direction& d) {
+          const double w = weight_bsdf(d);
+          return w * w * h2_over_bsdf(d);
+        });
+        light2 += light_integral(light, receiver, [&](const Direction& d) {
+          const double w = 1 - weight_bsdf(d);
+          return w * w * h(d) * h(d) / p_light(d);
+        });
+        bsdf1 += light_integral(light, receiver, [&](const Direction& d) { return weight_bsdf(d) * h(d); });
+        light1 += light_integral(light, receiver, [&](const Direction& d) { return (1 - weight_bsdf(d)) * h(d); });
+        break;
+      }
+      case Strategy::kMisOneSample:
+        moment += light_integral(light, receiver, [&](const Direction& d) {
+          const double q = c * d.bsdf.pdf_solid_angle + (1 - c) * p_light(d);
+          return q > 0 ? h(d) * h(d) / q : 0.0;
+        });
+        break;
+      case Strategy::kPathNaive:
+      case Strategy::kPathMis:
+        throw Error("the path tracer '" + strategy_name(strategy) + "' has no single-sample estimator over " +
+                    receiver.name());
+    }
+  }
+  if (strategy == Strategy::kMisBalance || strategy == Strategy::kMisPower) return bsdf2 + light2 + 2 * bsdf1 * light1;
+  return moment;
+}
+
+}  // namespace receiver_detail
+
+template <class R>
+double ReceiverModel<R>::light_reflectance(const ReceiverLight& light) const {
+  return receiver_detail::light_integral(light, static_cast<const R&>(*this),
+                                         [](const receiver_detail::Direction& d) { return d.bsdf.f_cos; });
+}
+
+template <class R>
+double ReceiverModel<R>::second_moment(Strategy strategy, const std::vector<ReceiverLight>& lights) const {
+  return receiver_detail::second_moment_of(strategy, static_cast<const R&>(*this), lights);
+}
+
+}  // namespace furnace::analytic
