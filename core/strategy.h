@@ -5,8 +5,8 @@
 //
 // renderer/ implements the strategies, analytic/ models their moments and
 // verify/ decides which references and tests apply, all from this table: a
-// new strategy is one row here plus its implementation (and, if it has a
-// variance model, its second moment in analytic/moments.cpp).
+// new strategy is one row here plus every switch over Strategy that the
+// compiler then names (-Werror=switch; docs/extending.md lists them).
 #pragma once
 
 #include <array>
