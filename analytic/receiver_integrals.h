@@ -228,7 +228,7 @@ double second_moment_of(Strategy strategy, const R& receiver, const std::vector<
                     receiver.name());
     }
   }
-  if (strategy == Strategy::kMisBalance || strategy == Strategy::kMisPower) return bsdf2 + light2 + 2 * bsdf1 * light1;
+  if (is_multi_sample_mis(strategy)) return bsdf2 + light2 + 2 * bsdf1 * light1;
   return moment;
 }
 

@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
+
 namespace furnace {
 
 // Sampling strategies. Values are stable (never renumber); names are the CLI's.
@@ -95,7 +97,10 @@ static_assert(every_strategy_has_one_row(), "kStrategyTable needs one row per St
 constexpr const StrategyInfo& strategy_info(Strategy s) {
   for (const StrategyInfo& info : kStrategyTable)
     if (info.strategy == s) return info;
-  return kStrategyTable[0];  // unreachable: the static_assert above
+  // An enumerator added without its row: the static_assert above checks the
+  // values 0 … size − 1 only, so a value past the table ends here (a compile
+  // error where evaluated at compile time).
+  check_failed("every Strategy has a row in kStrategyTable", __FILE__, __LINE__);
 }
 inline std::string strategy_name(Strategy s) { return strategy_info(s).name; }
 inline bool is_path_tracer(Strategy s) { return strategy_info(s).kind == StrategyKind::kPath; }
