@@ -27,16 +27,28 @@ fs::path installed_data_dir() {
   return (executable.parent_path() / ".." / "share" / "furnace").lexically_normal();
 }
 
-std::string scene_dir() {
+namespace {
+
+// share/furnace/<name> beside the executable when `exists` holds for it, else
+// the source tree's copy when it does; else furnace::Error with `refusal`
+// formatted with the two places tried (installed, then source).
+template <class Exists>
+std::string installed_or_source(const char* name, const char* source, Exists exists, const char* refusal) {
   const fs::path data = installed_data_dir();
   std::error_code ec;
-  if (!data.empty() && fs::is_directory(data / "scenes", ec)) return (data / "scenes").string();
-  if (fs::is_directory(kSourceSceneDir, ec)) return kSourceSceneDir;
-  throw Error(fmt::format("furnace cannot find its built-in scenes: neither '{}' (installed) nor '{}' (source tree) "
-                          "is a directory.",
-                          data.empty() ? std::string("<executable>/../share/furnace/scenes")
-                                       : (data / "scenes").string(),
-                          kSourceSceneDir));
+  if (!data.empty() && exists(data / name, ec)) return (data / name).string();
+  if (exists(fs::path(source), ec)) return source;
+  const std::string installed =
+      data.empty() ? std::string("<executable>/../share/furnace/") + name : (data / name).string();
+  throw Error(fmt::format(fmt::runtime(refusal), installed, source));
+}
+
+}  // namespace
+
+std::string scene_dir() {
+  return installed_or_source(
+      "scenes", kSourceSceneDir, [](const fs::path& p, std::error_code& ec) { return fs::is_directory(p, ec); },
+      "furnace cannot find its built-in scenes: neither '{}' (installed) nor '{}' (source tree) is a directory.");
 }
 
 std::string report_script() {
@@ -48,14 +60,11 @@ std::string report_script() {
                               forced));
     return forced;
   }
-  const fs::path data = installed_data_dir();
-  if (!data.empty() && fs::is_regular_file(data / "plot_report.py", ec)) return (data / "plot_report.py").string();
-  if (fs::is_regular_file(kSourceReportScript, ec)) return kSourceReportScript;
-  throw Error(fmt::format("report needs its plotting script, and neither '{}' (installed) nor '{}' (source tree) is a "
-                          "file (set FURNACE_REPORT_SCRIPT).",
-                          data.empty() ? std::string("<executable>/../share/furnace/plot_report.py")
-                                       : (data / "plot_report.py").string(),
-                          kSourceReportScript));
+  return installed_or_source(
+      "plot_report.py", kSourceReportScript,
+      [](const fs::path& p, std::error_code& ec) { return fs::is_regular_file(p, ec); },
+      "report needs its plotting script, and neither '{}' (installed) nor '{}' (source tree) is a file (set "
+      "FURNACE_REPORT_SCRIPT).");
 }
 
 }  // namespace furnace::verify
