@@ -17,6 +17,13 @@
 
 namespace furnace {
 
+const char* bsdf_type_name(BsdfType type) {
+  for (const BsdfTypeInfo& info : kBsdfTypeTable)
+    if (info.type == type) return info.name;
+  const std::string what = fmt::format("BsdfType value {} is no enumerator of BsdfType", static_cast<int>(type));
+  check_failed(what.c_str(), __FILE__, __LINE__);
+}
+
 Camera::Ray Camera::pixel_center_ray(int px, int py) const {
   const Vec3 f = normalize(forward);
   const Vec3 right = normalize(cross(f, up));
@@ -323,10 +330,14 @@ Shape parse_shape(const Reader& r) {
 Material parse_material(const Reader& r) {
   Material m;
   const std::string type = r.string("type");
-  if (type == "lambertian") m.type = BsdfType::kLambertian;
-  else if (type == "mirror") m.type = BsdfType::kMirror;
-  else if (type == "phong") m.type = BsdfType::kPhong;
-  else r.fail("type", fmt::format("must be one of lambertian, mirror, phong, got \"{}\"", printable(type)));
+  const auto row = std::find_if(kBsdfTypeTable.begin(), kBsdfTypeTable.end(),
+                                [&](const BsdfTypeInfo& info) { return type == info.name; });
+  if (row == kBsdfTypeTable.end()) {
+    std::string accepted;
+    for (const BsdfTypeInfo& info : kBsdfTypeTable) accepted += (accepted.empty() ? "" : ", ") + std::string(info.name);
+    r.fail("type", fmt::format("must be one of {}, got \"{}\"", accepted, printable(type)));
+  }
+  m.type = row->type;
   // Albedo above 1 creates energy; the furnace tests rely on ρ ≤ 1.
   if (r.has("albedo")) m.albedo = r.number_in("albedo", 0, 1);
   if (m.type == BsdfType::kPhong)

@@ -78,6 +78,31 @@ inline std::optional<Plane> plane_of(const Shape& shape) {
 
 enum class BsdfType { kLambertian, kMirror, kPhong };
 
+// The scene file's word for each material type ("type" of a material): the
+// loader parses these and every message that names a type uses them.
+struct BsdfTypeInfo {
+  BsdfType type;
+  const char* name;
+};
+inline constexpr std::array<BsdfTypeInfo, 3> kBsdfTypeTable = {{
+    {BsdfType::kLambertian, "lambertian"},
+    {BsdfType::kMirror, "mirror"},
+    {BsdfType::kPhong, "phong"},
+}};
+// Every enumerator 0 … kBsdfTypeTable.size() − 1 has exactly one row.
+constexpr bool every_bsdf_type_has_one_row() {
+  for (size_t v = 0; v < kBsdfTypeTable.size(); ++v) {
+    int rows = 0;
+    for (const BsdfTypeInfo& info : kBsdfTypeTable) rows += info.type == BsdfType(v);
+    if (rows != 1) return false;
+  }
+  return true;
+}
+static_assert(every_bsdf_type_has_one_row(), "kBsdfTypeTable needs one row per BsdfType");
+// The type's word; a value that is no enumerator of BsdfType (cast from an
+// integer) is an internal error.
+const char* bsdf_type_name(BsdfType type);
+
 struct Material {
   BsdfType type = BsdfType::kLambertian;
   double albedo = 0;          // Lambertian reflectance ρ, mirror reflectance, or Phong lobe albedo

@@ -6,15 +6,6 @@
 
 namespace furnace::exporter {
 
-const char* bsdf_type_name(BsdfType type) {
-  switch (type) {
-    case BsdfType::kLambertian: return "lambertian";
-    case BsdfType::kMirror: return "mirror";
-    case BsdfType::kPhong: return "phong";
-  }
-  unknown_bsdf_type(type);
-}
-
 std::string object_material_text(const Scene& scene, size_t index) {
   const Object& o = scene.objects.at(index);
   return fmt::format("'{}' (objects[{}].material.type \"{}\", albedo {})", o.name, index,

@@ -1,6 +1,6 @@
 // Facts about a furnace scene that every exporter needs, decided once here
-// instead of in one exporter: whether an object reflects at all, the scene
-// file's words for a material in a refusal sentence, and which
+// instead of in one exporter: whether an object reflects at all, an object's
+// material in a refusal sentence, and which
 // `furnace check --max-depth` has the reference a render of the complete
 // light transport must match. Each decision that depends on the material
 // type is a switch with one case per BsdfType and no default, so a new type
@@ -14,10 +14,6 @@
 #include "core/scene.h"
 
 namespace furnace::exporter {
-
-// The scene file's word for a BSDF type: "lambertian", "mirror" or "phong",
-// the values of objects[i].material.type that core/scene.cpp parses.
-const char* bsdf_type_name(BsdfType type);
 
 // An object's material as its scene file states it, for refusal sentences:
 // 'receiver' (objects[0].material.type "phong", albedo 0.5).

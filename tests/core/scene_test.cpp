@@ -46,6 +46,52 @@ TEST(SceneLoader, ParsesValidScene) {
   EXPECT_EQ(s.point_lights[0].intensity, 2.0);
 }
 
+// One entry per BsdfType, written independently of kBsdfTypeTable: a switch
+// with no default, so adding a type fails this test's build
+// (-Werror=switch) until its word is stated here too.
+const char* expected_bsdf_word(BsdfType type) {
+  switch (type) {
+    case BsdfType::kLambertian: return "lambertian";
+    case BsdfType::kMirror: return "mirror";
+    case BsdfType::kPhong: return "phong";
+  }
+  return "";
+}
+
+// The material of kValid's floor as {"type": word}.
+std::string with_floor_material(const std::string& word) {
+  std::string json = kValid;
+  const std::string from = R"("material": {"type": "lambertian")";
+  json.replace(json.find(from), from.size(), R"("material": {"type": ")" + word + "\"");
+  return json;
+}
+
+TEST(BsdfTypeNames, EveryTypesWordParsesBackToIt) {
+  for (const BsdfTypeInfo& info : kBsdfTypeTable) {
+    EXPECT_STREQ(bsdf_type_name(info.type), expected_bsdf_word(info.type));
+    const Scene s = parse_scene(with_floor_material(bsdf_type_name(info.type)), "material.json");
+    EXPECT_EQ(s.objects[0].material.type, info.type) << info.name;
+  }
+}
+
+// Negative controls: a word outside the table is refused naming the field,
+// the value and every accepted word; a value that is no enumerator is an
+// internal error, not a name.
+TEST(BsdfTypeNames, AnUnknownWordIsRefusedListingTheTable) {
+  try {
+    parse_scene(with_floor_material("ggx"), "material.json");
+    ADD_FAILURE() << "the unknown material type 'ggx' was accepted";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("objects[0].material.type"), std::string::npos) << message;
+    EXPECT_NE(message.find("must be one of lambertian, mirror, phong, got \"ggx\""), std::string::npos) << message;
+  }
+}
+
+TEST(BsdfTypeNamesDeathTest, AValueThatIsNoEnumeratorIsAnInternalError) {
+  EXPECT_DEATH(bsdf_type_name(static_cast<BsdfType>(7)), "BsdfType value 7 is no enumerator of BsdfType");
+}
+
 TEST(SceneLoader, PixelCenterRaysCoverTheImagePlane) {
   const Scene s = parse_scene(kValid, "valid.json");
   const auto top_left = s.camera.pixel_center_ray(0, 0);
