@@ -220,6 +220,8 @@ std::array<double, N> pixel_center_moments(const Scene& scene, int px, int py, P
     }
     case BsdfType::kMirror:
       break;  // a delta lobe: no receiver model
+    case BsdfType::kGgx:
+      break;  // TODO(issue 29): the GGX receiver
   }
   unsupported_configuration(scene, "a camera ray hitting the non-Lambertian, non-black object '" + object.name + "'");
 }

@@ -67,6 +67,8 @@ double ray_radiance(const Scene& scene, const Vec3& origin, const Vec3& directio
       return le + object.material.albedo * kInvPi * irradiance(scene, hit->point, n, hit->object_index);
     case BsdfType::kMirror:
       break;  // a delta lobe: no receiver model
+    case BsdfType::kGgx:
+      break;  // TODO(issue 29): the GGX receiver
   }
   unsupported_configuration(scene, "a camera ray hitting the non-Lambertian, non-black object '" + object.name + "'");
 }

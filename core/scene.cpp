@@ -342,6 +342,17 @@ Material parse_material(const Reader& r) {
   if (r.has("albedo")) m.albedo = r.number_in("albedo", 0, 1);
   if (m.type == BsdfType::kPhong)
     m.phong_exponent = r.has("exponent") ? r.number_in("exponent", 0, lim::kMaxPhongExponent) : 1.0;
+  if (m.type == BsdfType::kGgx) {
+    m.ggx_alpha = r.number_in("alpha", lim::kMinGgxAlpha, 1.0);
+    if (r.has("shadowing")) {
+      const std::string name = r.string("shadowing");
+      const auto form = std::find_if(kMicrofacetShadowingTable.begin(), kMicrofacetShadowingTable.end(),
+                                     [&](const MicrofacetShadowingInfo& info) { return name == info.name; });
+      if (form == kMicrofacetShadowingTable.end())
+        r.fail("shadowing", fmt::format("must be one of separable, height_correlated, got \"{}\"", printable(name)));
+      m.shadowing = form->shadowing;
+    }
+  }
   return m;
 }
 

@@ -162,6 +162,11 @@ enum class Defect {
   kGrazingEmitterCosine,
   kConeSamplingFloat,
   kMisPowerExponent3,
+  kGgxVndfPdfWithoutG1,
+  kGgxSampleAlphaSquared,
+  kGgxLambdaOtherAlpha,
+  kGgxSeparableAsHeightCorrelated,
+  kGgxDWithoutInvPi,
 };
 
 struct DefectInfo {
@@ -169,7 +174,7 @@ struct DefectInfo {
   const char* name;
   const char* description;
 };
-inline constexpr std::array<DefectInfo, 18> kDefectTable = {{
+inline constexpr std::array<DefectInfo, 23> kDefectTable = {{
     {Defect::kNone, "none", "the renderer as it is"},
     {Defect::kDropLightCosine, "drop_light_cosine", "light_area forgets cos θ' (the area to solid angle Jacobian)"},
     {Defect::kPdfOffByConstant, "pdf_off_by_constant", "the weight divides by 1.1 × the true pdf"},
@@ -200,6 +205,15 @@ inline constexpr std::array<DefectInfo, 18> kDefectTable = {{
      "the sphere cone's 1 − cos θmax computed in single precision by subtraction, 1 − sqrtf(1 − sin²θmax)"},
     {Defect::kMisPowerExponent3, "mis_power_exponent_3",
      "mis_power weighs with the power heuristic's β = 3 while claiming β = 2: unbiased, but another variance"},
+    {Defect::kGgxVndfPdfWithoutG1, "ggx_vndf_pdf_without_g1",
+     "GGX visible-normal density without its G1(ωo) factor, D·max(0, ωo·m)/cos θo (NVIDIA-RTX Donut #23)"},
+    {Defect::kGgxSampleAlphaSquared, "ggx_sample_alpha_squared",
+     "GGX sampler stretches by α² where eval and pdf use α (Falcor #212)"},
+    {Defect::kGgxLambdaOtherAlpha, "ggx_lambda_other_alpha",
+     "GGX Smith Λ computed with α² while D uses α (OloEngineBase #904)"},
+    {Defect::kGgxSeparableAsHeightCorrelated, "ggx_separable_as_height_correlated",
+     "GGX evaluates the separable G1·G1 for a material that says height_correlated"},
+    {Defect::kGgxDWithoutInvPi, "ggx_d_without_inv_pi", "GGX D(m) without its 1/π"},
 }};
 constexpr bool every_defect_has_one_row() {
   for (size_t v = 0; v < kDefectTable.size(); ++v) {

@@ -230,6 +230,10 @@ CyclesMaterial cycles_material(const Scene& scene, size_t index) {
     case BsdfType::kPhong:
       return refused(fmt::format("the object {} has a normalised Phong BSDF, which Cycles does not have",
                                  object_material_text(scene, index)));
+    case BsdfType::kGgx:
+      return refused(fmt::format("the object {} has a GGX BSDF, whose export to Cycles (roughness, Smith form, "
+                                 "sampler) is not yet written",
+                                 object_material_text(scene, index)));
   }
   unknown_bsdf_type(o.material.type);
 }

@@ -109,6 +109,10 @@ PbrtMaterial pbrt_material(const Scene& scene, size_t index) {
     case BsdfType::kPhong:
       return refused(fmt::format("the object {} has a normalised Phong BSDF, which pbrt-v4 does not have",
                                  object_material_text(scene, index)));
+    case BsdfType::kGgx:
+      return refused(fmt::format("the object {} has a GGX BSDF, whose export to pbrt-v4 (conductor with F ≡ 1, "
+                                 "roughness remapping, Smith form) is not yet written",
+                                 object_material_text(scene, index)));
   }
   unknown_bsdf_type(m.type);
 }

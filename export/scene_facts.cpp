@@ -17,6 +17,7 @@ bool reflects(const Material& material) {
     case BsdfType::kLambertian:  // ρ/π
     case BsdfType::kMirror:      // ρ times the specular delta
     case BsdfType::kPhong:       // the albedo times a normalised lobe
+    case BsdfType::kGgx:         // the albedo times D·G2/(4 cos θo cos θi)
       return material.albedo > 0;
   }
   unknown_bsdf_type(material.type);
@@ -37,6 +38,7 @@ bool direct_lighting_is_complete(const Scene& scene) {
       // reflector is checked at the depth rendered.
       case BsdfType::kMirror:
       case BsdfType::kPhong:
+      case BsdfType::kGgx:
         return false;
     }
   }

@@ -71,6 +71,7 @@ double Bsdf::eval(const Vec3& wo_local, const Vec3& wi_local) const {
     case BsdfType::kLambertian: return LambertianBsdf{material->albedo}.eval(wo_local, wi_local);
     case BsdfType::kMirror: return MirrorBsdf{material->albedo}.eval(wo_local, wi_local);
     case BsdfType::kPhong: return PhongBsdf{material->albedo, material->phong_exponent, defect}.eval(wo_local, wi_local);
+    case BsdfType::kGgx: return 0.0;  // TODO(issue 29)
   }
   return 0.0;
 }
@@ -79,6 +80,7 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& wo_local, double u1, double u
     case BsdfType::kLambertian: return LambertianBsdf{material->albedo}.sample(wo_local, u1, u2);
     case BsdfType::kMirror: return MirrorBsdf{material->albedo}.sample(wo_local, u1, u2);
     case BsdfType::kPhong: return PhongBsdf{material->albedo, material->phong_exponent, defect}.sample(wo_local, u1, u2);
+    case BsdfType::kGgx: return std::nullopt;  // TODO(issue 29)
   }
   return std::nullopt;
 }
@@ -87,6 +89,7 @@ double Bsdf::pdf(const Vec3& wo_local, const Vec3& wi_local) const {
     case BsdfType::kLambertian: return LambertianBsdf{material->albedo}.pdf(wo_local, wi_local);
     case BsdfType::kMirror: return MirrorBsdf{material->albedo}.pdf(wo_local, wi_local);
     case BsdfType::kPhong: return PhongBsdf{material->albedo, material->phong_exponent, defect}.pdf(wo_local, wi_local);
+    case BsdfType::kGgx: return 0.0;  // TODO(issue 29)
   }
   return 0.0;
 }

@@ -54,6 +54,7 @@ const char* expected_bsdf_word(BsdfType type) {
     case BsdfType::kLambertian: return "lambertian";
     case BsdfType::kMirror: return "mirror";
     case BsdfType::kPhong: return "phong";
+    case BsdfType::kGgx: return "ggx";
   }
   return "";
 }
@@ -62,7 +63,8 @@ const char* expected_bsdf_word(BsdfType type) {
 std::string with_floor_material(const std::string& word) {
   std::string json = kValid;
   const std::string from = R"("material": {"type": "lambertian")";
-  json.replace(json.find(from), from.size(), R"("material": {"type": ")" + word + "\"");
+  json.replace(json.find(from), from.size(), R"("material": {"type": ")" + word + "\"" +
+                                                  (word == "ggx" ? R"(, "alpha": 0.5)" : ""));
   return json;
 }
 

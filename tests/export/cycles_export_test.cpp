@@ -114,7 +114,8 @@ std::optional<ScriptMaterial> expected_material(const Object& o) {
       if (!is_planar(o.shape)) return std::nullopt;
       return ScriptMaterial{o.material.albedo, true};
     case BsdfType::kPhong:
-      if (o.material.albedo == 0) return ScriptMaterial{0, false};  // a black Phong surface is black
+    case BsdfType::kGgx:
+      if (o.material.albedo == 0) return ScriptMaterial{0, false};  // a black glossy surface is black
       return std::nullopt;
   }
   return std::nullopt;

@@ -122,7 +122,8 @@ std::optional<std::string> expected_material(const Material& m) {
       return fmt::format("Material \"conductor\" \"spectrum reflectance\" [300 {0} 900 {0}] \"float roughness\" 0",
                          m.albedo);
     case BsdfType::kPhong:
-      if (m.albedo == 0) return diffuse(0);  // a black Phong surface is black
+    case BsdfType::kGgx:
+      if (m.albedo == 0) return diffuse(0);  // a black glossy surface is black
       return std::nullopt;
   }
   return std::nullopt;
