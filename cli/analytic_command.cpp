@@ -21,9 +21,15 @@ CLI::App* add_analytic_command(CLI::App& app, AnalyticCommandOptions& o) {
   command->add_option("--normal", o.normal, "Receiver normal x,y,z (normalised)")
       ->required()->delimiter(',')->check(finite_number().description(""))->type_name("X,Y,Z");
   command
+      ->add_option_function<std::vector<double>>(
+          "--view", [&o](const std::vector<double>& v) { o.view = std::array<double, 3>{v[0], v[1], v[2]}; },
+          "Direction from the point toward the viewer x,y,z, for a glossy (phong, ggx) receiver (default: toward "
+          "the scene's camera, -forward)")
+      ->expected(3)->delimiter(',')->check(finite_number().description(""))->type_name("X,Y,Z");
+  command
       ->add_option_function<double>(
           "--albedo", [&o](const double& albedo) { o.albedo = albedo; },
-          "Lambertian albedo for the radiance (default: the receiver's)")
+          "The receiver's albedo for the radiance (default: the receiver's; for a glossy receiver the factor on f)")
       ->check(number_in(0.0, 1.0));
   command->add_option("--estimator", o.estimators,
                       "Estimator(s) whose second moment and variance to compute (repeatable; default: every "
@@ -43,6 +49,12 @@ int run_analytic(const AnalyticCommandOptions& o) {
     throw Error(fmt::format("option --normal must be a non-zero finite direction, got {},{},{}.", n.x, n.y, n.z));
   q.normal = normalize(n);
   q.albedo = o.albedo;
+  if (o.view) {
+    const Vec3 v{(*o.view)[0], (*o.view)[1], (*o.view)[2]};
+    if (!(length(v) > 0) || !std::isfinite(length(v)))
+      throw Error(fmt::format("option --view must be a non-zero finite direction, got {},{},{}.", v.x, v.y, v.z));
+    q.view = normalize(v);
+  }
   q.estimators = o.estimators;
   std::fputs(verify::answer_analytic_query(scene, q, o.json).c_str(), stdout);
   return kExitPass;

@@ -1,5 +1,6 @@
 // `furnace analytic`: the exact irradiance, radiance and estimator moments at
-// one receiver point, as text or JSON.
+// one receiver point (a glossy receiver's radiance toward a view), as text or
+// JSON.
 #pragma once
 
 #include <array>
@@ -17,6 +18,7 @@ struct AnalyticCommandOptions {
   std::string scene_path;
   std::array<double, 3> point{}, normal{};  // the normal is normalised by run_analytic
   std::optional<double> albedo;             // empty: the receiver's
+  std::optional<std::array<double, 3>> view;  // empty: the camera's (glossy receivers)
   std::vector<Strategy> estimators;         // empty: every strategy with its own variance model
   bool json = false;
 };

@@ -10,6 +10,8 @@
 
 #include "analytic/error_ledger.h"
 #include "analytic/moments.h"
+#include "analytic/phong.h"
+#include "analytic/receiver.h"
 #include "analytic/reference.h"
 #include "core/error.h"
 #include "core/strategy.h"
@@ -30,10 +32,174 @@ std::optional<size_t> receiver_at(const Scene& scene, const Vec3& p, const Vec3&
   return std::nullopt;
 }
 
+// The view direction of a glossy query: --view, else the camera's (every
+// furnace camera is orthographic: the direction toward it is −forward).
+struct View {
+  Vec3 direction;
+  const char* source;
+};
+View view_of(const Scene& scene, const AnalyticQuery& q, const std::string& receiver_name) {
+  View view = q.view ? View{normalize(*q.view), "--view"} : View{-scene.camera.forward, "the camera"};
+  view.direction = view.direction + Vec3(0, 0, 0);  // −0 components to +0, for the printed direction
+  if (!(dot(view.direction, q.normal) > 0))
+    throw Error(fmt::format("scene file '{}': the view direction ({:.17g}, {:.17g}, {:.17g}) from {} is not above the "
+                            "horizon of the receiver '{}' at the point (normal ({:.17g}, {:.17g}, {:.17g})); give "
+                            "--view toward the side the normal faces.",
+                            scene.source, view.direction.x, view.direction.y, view.direction.z, view.source,
+                            receiver_name, q.normal.x, q.normal.y, q.normal.z));
+  return view;
+}
+
+// The BSDF's name and parameters, as the JSON and the text show them.
+nlohmann::ordered_json bsdf_json(const Material& m) {
+  nlohmann::ordered_json j;
+  j["type"] = bsdf_type_name(m.type);
+  j["albedo"] = m.albedo;
+  switch (m.type) {
+    case BsdfType::kLambertian:
+    case BsdfType::kMirror:
+      break;
+    case BsdfType::kPhong:
+      j["exponent"] = m.phong_exponent;
+      break;
+    case BsdfType::kGgx:
+      j["alpha"] = m.ggx_alpha;
+      j["shadowing"] = microfacet_shadowing_name(m.shadowing);
+      break;
+  }
+  return j;
+}
+std::string bsdf_text(const nlohmann::ordered_json& bsdf) {
+  std::string text = bsdf["type"].get<std::string>() + " (";
+  bool first = true;
+  for (const auto& [key, value] : bsdf.items()) {
+    if (key == "type") continue;
+    text += (first ? "" : ", ") + key + " " +
+            (value.is_string() ? value.get<std::string>() : fmt::format("{:.17g}", value.get<double>()));
+    first = false;
+  }
+  return text + ")";
+}
+
+// The glossy receiver's radiance toward wo and its estimators' E[Y²], from
+// the receiver model of its BSDF (analytic/phong.h, analytic/ggx.h).
+double glossy_radiance(const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo, size_t receiver) {
+  const Material& m = scene.objects[receiver].material;
+  switch (m.type) {
+    case BsdfType::kPhong: return analytic::phong_reflected_radiance(scene, p, n, wo, receiver);
+    case BsdfType::kGgx: break;  // TODO(issue 29): analytic::ggx_reflected_radiance
+    case BsdfType::kLambertian:
+    case BsdfType::kMirror:
+      break;
+  }
+  throw Error(fmt::format("scene file '{}': the receiver '{}' ({}) has no glossy reference.", scene.source,
+                          scene.objects[receiver].name, bsdf_type_name(m.type)));
+}
+double glossy_second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo,
+                            size_t receiver) {
+  const Material& m = scene.objects[receiver].material;
+  switch (m.type) {
+    case BsdfType::kPhong: return analytic::phong_second_moment(strategy, scene, p, n, wo, receiver);
+    case BsdfType::kGgx: break;  // TODO(issue 29): analytic::ggx_second_moment
+    case BsdfType::kLambertian:
+    case BsdfType::kMirror:
+      break;
+  }
+  throw Error(fmt::format("scene file '{}': the receiver '{}' ({}) has no glossy reference.", scene.source,
+                          scene.objects[receiver].name, bsdf_type_name(m.type)));
+}
+
+bool is_glossy(BsdfType type) {
+  switch (type) {
+    case BsdfType::kPhong:
+    case BsdfType::kGgx:
+      return true;
+    case BsdfType::kLambertian:
+    case BsdfType::kMirror:
+      return false;
+  }
+  return false;
+}
+
+// The glossy receiver's answer: its radiance toward the view and each direct
+// strategy's single-sample estimator of it. The receiver model's nested
+// quadratures do not report the error they reach: the bound stated is their
+// requested relative tolerance per level (two levels) plus round-off.
+std::string answer_glossy_query(const Scene& original, const AnalyticQuery& q, size_t receiver, bool json) {
+  Scene scene = original;
+  Material& material = scene.objects[receiver].material;
+  if (q.albedo) material.albedo = *q.albedo;
+  const std::string& name = scene.objects[receiver].name;
+  const View view = view_of(scene, q, name);
+  const nlohmann::ordered_json bsdf = bsdf_json(material);
+  const double relative_bound =
+      2 * analytic::kReceiverQuadratureTolerance + analytic::kRoundoffUlps * std::numeric_limits<double>::epsilon();
+  const double radiance = glossy_radiance(scene, q.point, q.normal, view.direction, receiver);
+  if (!std::isfinite(radiance))
+    throw Error(fmt::format("scene file '{}': the exact radiance at the point is {}, not a finite number (an "
+                            "emission or radiance too large for double precision).",
+                            scene.source, radiance));
+  const double radiance_bound = std::fabs(radiance) * relative_bound;
+
+  nlohmann::ordered_json j;
+  j["scene"] = scene.name;
+  j["point"] = {q.point.x, q.point.y, q.point.z};
+  j["normal"] = {q.normal.x, q.normal.y, q.normal.z};
+  j["receiver"] = name;
+  j["bsdf"] = bsdf;
+  j["view"] = {view.direction.x, view.direction.y, view.direction.z};
+  j["view_source"] = view.source;
+  j["radiance"] = radiance;
+  j["radiance_error_bound"] = radiance_bound;
+  std::string text = fmt::format(
+      "scene {}, point ({:.17g}, {:.17g}, {:.17g}), normal ({:.17g}, {:.17g}, {:.17g}), receiver {}\n"
+      "BSDF {}, view ({:.17g}, {:.17g}, {:.17g}) from {}\n"
+      "radiance L toward the view  {:.17g} ± {:.2g}\n"
+      "single-sample estimators of L: second moment E[Y^2] and variance Var Y = E[Y^2] - L^2 (± error bounds)\n",
+      scene.name, q.point.x, q.point.y, q.point.z, q.normal.x, q.normal.y, q.normal.z, name, bsdf_text(bsdf),
+      view.direction.x, view.direction.y, view.direction.z, view.source, radiance, radiance_bound);
+  std::vector<Strategy> estimators = q.estimators;
+  if (estimators.empty())
+    for (const StrategyInfo& info : kStrategyTable)
+      if (!is_path_tracer(info.strategy)) estimators.push_back(info.strategy);
+  for (const Strategy strategy : estimators) {
+    const std::string& est = strategy_name(strategy);
+    std::string moment_text, variance_text;
+    try {
+      const double m2 = glossy_second_moment(strategy, scene, q.point, q.normal, view.direction, receiver);
+      const double m2_bound = std::fabs(m2) * relative_bound;
+      const double variance = m2 - radiance * radiance;
+      const double variance_bound = m2_bound + 2 * std::fabs(radiance) * radiance_bound +
+                                    radiance_bound * radiance_bound +
+                                    std::numeric_limits<double>::epsilon() * std::fabs(m2);
+      j["estimators"][est] = {{"second_moment", m2},
+                              {"second_moment_error_bound", m2_bound},
+                              {"variance", variance},
+                              {"variance_error_bound", variance_bound}};
+      moment_text = fmt::format("{:.17g} ± {:.2g}", m2, m2_bound);
+      variance_text = fmt::format("{:.17g} ± {:.2g}", variance, variance_bound);
+    } catch (const Error& err) {
+      j["estimators"][est] = {{"unsupported", err.what()}};
+      moment_text = "unsupported";
+      variance_text = err.what();
+    }
+    text += fmt::format("  {:<20} E[Y^2] {:<34} Var {}\n", est, moment_text, variance_text);
+  }
+  return json ? j.dump(2) + "\n" : text;
+}
+
 }  // namespace
 
 std::string answer_analytic_query(const Scene& scene, const AnalyticQuery& q, bool json) {
   const std::optional<size_t> receiver = receiver_at(scene, q.point, q.normal);
+  if (receiver) {
+    const Object& object = scene.objects[*receiver];
+    if (is_glossy(object.material.type)) return answer_glossy_query(scene, q, *receiver, json);
+    if (object.material.type == BsdfType::kMirror && (q.albedo ? *q.albedo : object.material.albedo) > 0)
+      throw Error(fmt::format("scene file '{}': the receiver '{}' at the point is a mirror, a delta lobe with no "
+                              "reference at a point (its radiance is the radiance along the mirrored ray).",
+                              scene.source, object.name));
+  }
   const double albedo = q.albedo ? *q.albedo : (receiver ? scene.objects[*receiver].material.albedo : 1.0);
   double e = 0, e_bound = 0;
   {
@@ -53,6 +219,7 @@ std::string answer_analytic_query(const Scene& scene, const AnalyticQuery& q, bo
   j["point"] = {q.point.x, q.point.y, q.point.z};
   j["normal"] = {q.normal.x, q.normal.y, q.normal.z};
   j["receiver"] = receiver ? scene.objects[*receiver].name : std::string("none");
+  j["bsdf"] = {{"type", bsdf_type_name(BsdfType::kLambertian)}, {"albedo", albedo}};
   j["albedo"] = albedo;
   j["irradiance"] = e;
   j["irradiance_error_bound"] = e_bound;

@@ -1,6 +1,11 @@
-// `furnace analytic`: the exact answers at one receiver point of a scene:
-// irradiance, the radiance of a Lambertian receiver there, and for each
-// single-sample estimator its second moment and variance.
+// `furnace analytic`: the exact answers at one receiver point of a scene.
+// A Lambertian receiver (or none): the irradiance, the radiance of a
+// Lambertian receiver there, and for each single-sample estimator of the
+// irradiance its second moment and variance. A glossy receiver (Phong, GGX):
+// the radiance its own BSDF reflects toward a view direction, and each direct
+// strategy's single-sample estimator of that radiance: its second moment and
+// variance. A mirror receiver is refused (a delta lobe has no reference at a
+// point).
 #pragma once
 
 #include <optional>
@@ -16,8 +21,13 @@ struct AnalyticQuery {
   Vec3 point;
   Vec3 normal;                   // unit
   std::optional<double> albedo;  // default: the receiver object's albedo, or 1 with no receiver
+  // Unit direction from the point toward the viewer, for a glossy receiver:
+  // default the scene camera's (orthographic: −forward). Must lie above the
+  // receiver's horizon (n·view > 0).
+  std::optional<Vec3> view;
   // Estimators whose second moment and variance to compute (names from
-  // kStrategyTable); empty: every strategy with its own variance model.
+  // kStrategyTable); empty: every strategy with its own variance model (a
+  // glossy receiver: every direct strategy).
   std::vector<Strategy> estimators;
 };
 

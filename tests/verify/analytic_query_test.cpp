@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "analytic/phong.h"
 #include "analytic/reference.h"
 #include "core/error.h"
 #include "core/scene.h"
@@ -80,6 +81,84 @@ TEST(AnalyticQueryJson, EveryValueCarriesAnErrorBound) {
   std::printf("[ analytic --json ] %d scenes, %d queries, %d values, each with a finite error bound\n", scenes, queries,
               values);
   EXPECT_GT(queries, 20);
+}
+
+// A glossy receiver is answered with its own BSDF toward a view direction,
+// never as a Lambertian surface: glossy_environment's Phong n = 10 strip,
+// seen by the scene's camera at 70° from the normal, where the horizon cuts
+// the lobe (the Lambertian answer would be L_env·ρ = 1.2).
+struct GlossyQuery : testing::Test {
+  Scene scene = load_scene(std::string(FURNACE_SCENE_DIR) + "/glossy_environment.json");
+  AnalyticQuery q;
+  size_t receiver = 0;  // phong10
+  GlossyQuery() {
+    q.point = {-0.75, 0, 0};
+    q.normal = {0, 0, 1};
+  }
+  nlohmann::json answer() const { return nlohmann::json::parse(answer_analytic_query(scene, q, true)); }
+};
+
+TEST_F(GlossyQuery, ViewFromTheCameraAndTheReceiversOwnBsdf) {
+  const nlohmann::json a = answer();
+  const Vec3 wo = -scene.camera.forward;
+  EXPECT_EQ(a["receiver"], "phong10");
+  EXPECT_EQ(a["bsdf"]["type"], "phong");
+  EXPECT_EQ(a["bsdf"]["exponent"].get<double>(), 10.0);
+  EXPECT_EQ(a["view_source"], "the camera");
+  EXPECT_EQ(a["view"][1].get<double>(), wo.y);
+  EXPECT_EQ(a["view"][2].get<double>(), wo.z);
+  const double expected = analytic::phong_reflected_radiance(scene, q.point, q.normal, wo, receiver);
+  EXPECT_EQ(a["radiance"].get<double>(), expected);
+  const double lambertian = scene.environment.radiance * scene.objects[receiver].material.albedo;
+  EXPECT_GT(std::fabs(a["radiance"].get<double>() - lambertian), 0.1 * lambertian);  // the horizon cuts the lobe
+  // Every direct strategy, each the Phong estimator's moment; none is the
+  // Lambertian one (cosine sampling of a Lambertian sky has variance 0).
+  EXPECT_EQ(a["estimators"].size(), direct_strategies().size());
+  for (Strategy s : direct_strategies()) {
+    const nlohmann::json& e = a["estimators"][strategy_name(s)];
+    EXPECT_EQ(e["second_moment"].get<double>(),
+              analytic::phong_second_moment(s, scene, q.point, q.normal, wo, receiver))
+        << strategy_name(s);
+    EXPECT_GT(e["variance"].get<double>(), 0.0) << strategy_name(s);
+  }
+}
+
+TEST_F(GlossyQuery, ViewOptionAndAlbedoOverride) {
+  q.view = Vec3(0, 0, 1);
+  q.estimators = {Strategy::kBsdf};
+  const nlohmann::json normal_view = answer();
+  EXPECT_EQ(normal_view["view_source"], "--view");
+  // At normal view no lobe direction is below the horizon: the albedo ρ.
+  EXPECT_NEAR(normal_view["radiance"].get<double>(), 1.2, 1e-12);
+  q.albedo = 0.4;  // f scales with the albedo, E[Y²] with its square
+  const nlohmann::json half = answer();
+  EXPECT_DOUBLE_EQ(half["radiance"].get<double>(), 0.5 * normal_view["radiance"].get<double>());
+  EXPECT_DOUBLE_EQ(half["estimators"]["bsdf"]["second_moment"].get<double>(),
+                   0.25 * normal_view["estimators"]["bsdf"]["second_moment"].get<double>());
+}
+
+TEST_F(GlossyQuery, ViewBelowTheHorizonIsRefusedNamingIt) {
+  q.view = Vec3(0, 0.3, -1);
+  try {
+    answer();
+    ADD_FAILURE() << "a view below the horizon was answered";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("not above the horizon of the receiver 'phong10'"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(AnalyticQueryMirror, AMirrorReceiverIsRefused) {
+  const Scene scene = load_scene(std::string(FURNACE_SCENE_DIR) + "/mirror_disk.json");
+  AnalyticQuery q;
+  q.point = {0.2, 0.1, 0};
+  q.normal = {0, 0, 1};
+  try {
+    answer_analytic_query(scene, q, false);
+    ADD_FAILURE() << "a mirror receiver was answered";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'mirror' at the point is a mirror"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
