@@ -1,6 +1,10 @@
 #include "cli/sweep_command.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <filesystem>
+#include <set>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -17,6 +21,10 @@ CLI::App* add_sweep_command(CLI::App& app, SweepCommandOptions& o) {
   CLI::App* command =
       app.add_subcommand("sweep", "Measure the false-alarm rate of the verification over many seeds (slow)");
   add_strategies_option(command, o.strategies);
+  command->add_option("--suite-scene", o.scenes,
+                      "Only the built-in suite's cases of these scenes (file name without .json, repeatable; default: "
+                      "all)")
+      ->type_name("NAME");
   command->add_option("--seeds", o.seeds, "Seeds per case")->capture_default_str()->transform(integer_in(1, 100000));
   command->add_option("--spp", o.spp, spp_help())->capture_default_str()->transform(integer_in(2, kMaxSpp));
   command->add_option("--case-alpha", o.case_alpha, "False-alarm level of each case")
@@ -27,8 +35,24 @@ CLI::App* add_sweep_command(CLI::App& app, SweepCommandOptions& o) {
 }
 
 int run_sweep(const SweepCommandOptions& o) {
-  const std::vector<verify::Case> cases = suite_cases(verify::default_suite(o.spp, 0, o.threads), o.strategies);
-  if (cases.empty()) throw Error("no sweep case matches the given --strategy options.");
+  std::vector<verify::Case> cases = suite_cases(verify::default_suite(o.spp, 0, o.threads), o.strategies);
+  if (!o.scenes.empty()) {
+    const auto stem = [](const verify::Case& c) { return std::filesystem::path(c.scene_path).stem().string(); };
+    std::set<std::string> known;
+    for (const verify::Case& c : verify::default_suite(o.spp, 0, o.threads)) known.insert(stem(c));
+    for (const std::string& name : o.scenes)
+      if (!known.count(name)) {
+        std::string list;
+        for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+        throw Error(fmt::format("option --suite-scene: '{}' is no scene of the built-in suite (accepted: {}).", name,
+                                list));
+      }
+    std::vector<verify::Case> kept;
+    for (const verify::Case& c : cases)
+      if (std::find(o.scenes.begin(), o.scenes.end(), stem(c)) != o.scenes.end()) kept.push_back(c);
+    cases = kept;
+  }
+  if (cases.empty()) throw Error("no sweep case matches the given --suite-scene and --strategy options.");
   const std::string warning = verify::low_spp_warning(cases);
   if (!warning.empty()) std::fprintf(stderr, "furnace: warning: %s\n", warning.c_str());
   fmt::print("false-alarm sweep: {} cases x {} seeds at {} spp, per-case alpha {}\n", cases.size(), o.seeds, o.spp,

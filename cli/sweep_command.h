@@ -14,6 +14,7 @@ namespace furnace::cli {
 
 struct SweepCommandOptions {
   std::vector<Strategy> strategies;  // empty: all
+  std::vector<std::string> scenes;   // built-in scene names (file stem); empty: all
   int seeds = 50;
   int spp = 1024;
   double case_alpha = 0.05;
@@ -23,7 +24,8 @@ struct SweepCommandOptions {
 // Adds `sweep` to `app`, its options bound to `options`.
 CLI::App* add_sweep_command(CLI::App& app, SweepCommandOptions& options);
 
-// Every selected case of the built-in suite rerun over seeds 1 … seeds at
+// Every selected case of the built-in suite (narrowed to `scenes` and
+// `strategies`; a name that is no built-in suite scene is bad input) rerun over seeds 1 … seeds at
 // the per-case level case_alpha; each case's observed rejection rate is
 // compared with case_alpha by an exact binomial test. The per-case tests are
 // Šidák-corrected over pixels and partly positively correlated, so the true

@@ -122,6 +122,7 @@ TEST(Cli, EveryArgumentErrorIsOneLineNamingTheOptionAndExitsTwo) {
       {analytic + " --point 0,0 --normal 0,0,1", "--point"},
       {analytic + " --point 0,0,0 --normal 0,0,1 --view 0,0", "--view"},
       {analytic + " --point 0,0,0 --normal 0,0,1 --view 0,nan,1", "--view"},
+      {"sweep --suite-scene no_such_scene --seeds 2", "--suite-scene"},
       {"verify --seed -1", "--seed"},
       {"verify --seed 18446744073709551616", "--seed"},
       {"render --scene " + scene + " --seed 1.5", "--seed"},
