@@ -14,6 +14,8 @@ double phong_cos_alpha(const Vec3& wo_local, const Vec3& wi_local) {
   return dot(scene_normalize(reflect_about_normal(wo_local)), wi_local);
 }
 
+GgxBsdf ggx(const Material& m, Defect defect) { return GgxBsdf{m.albedo, m.ggx_alpha, m.shadowing, defect}; }
+
 }  // namespace
 
 double LambertianBsdf::eval(const Vec3& wo_local, const Vec3& wi_local) const {
@@ -66,12 +68,66 @@ double PhongBsdf::pdf(const Vec3& wo_local, const Vec3& wi_local) const {
   return phong_lobe_pdf({0, 0, phong_cos_alpha(wo_local, wi_local)}, exponent);
 }
 
+double GgxBsdf::distribution(const Vec3& m) const {
+  // DEFECT(ggx_d_without_inv_pi): π·D, whose ∫ D cos θm dωm is π.
+  return defect == Defect::kGgxDWithoutInvPi ? kPi * ggx_distribution(m, alpha) : ggx_distribution(m, alpha);
+}
+double GgxBsdf::lambda(const Vec3& w) const {
+  // DEFECT(ggx_lambda_other_alpha): Λ of roughness α² while D keeps α.
+  return ggx_lambda(w, defect == Defect::kGgxLambdaOtherAlpha ? alpha * alpha : alpha);
+}
+double GgxBsdf::g2(const Vec3& wo_local, const Vec3& wi_local) const {
+  const double lambda_o = lambda(wo_local), lambda_i = lambda(wi_local);
+  switch (shadowing) {
+    case MicrofacetShadowing::kSeparable: return ggx_g2_separable_from_lambdas(lambda_o, lambda_i);
+    case MicrofacetShadowing::kHeightCorrelated:
+      // DEFECT(ggx_separable_as_height_correlated): G1·G1 ≤ 1/(1 + Λo + Λi), a darker surface.
+      return defect == Defect::kGgxSeparableAsHeightCorrelated
+                 ? ggx_g2_separable_from_lambdas(lambda_o, lambda_i)
+                 : ggx_g2_height_correlated_from_lambdas(lambda_o, lambda_i);
+  }
+  return 0.0;
+}
+double GgxBsdf::visible_normal_pdf(const Vec3& wo_local, const Vec3& m) const {
+  // DEFECT(ggx_vndf_pdf_without_g1): D·max(0, wo·m)/cos θo, which integrates to 1/G1(wo) > 1.
+  const double g1_wo = defect == Defect::kGgxVndfPdfWithoutG1 ? 1.0 : g1(wo_local);
+  return ggx_visible_normal_density(g1_wo, distribution(m), wo_local, m);
+}
+Vec3 GgxBsdf::sample_visible_normal(const Vec3& wo_local, double u1, double u2) const {
+  // DEFECT(ggx_sample_alpha_squared): normals of roughness α², a narrower lobe than eval and pdf claim.
+  return sample_ggx_visible_normal(wo_local, defect == Defect::kGgxSampleAlphaSquared ? alpha * alpha : alpha, u1, u2);
+}
+
+double GgxBsdf::eval(const Vec3& wo_local, const Vec3& wi_local) const {
+  if (!(wo_local.z > 0 && wi_local.z > 0)) return 0.0;
+  const Vec3 h = scene_normalize(wo_local + wi_local);  // h.z > 0: both directions are above the horizon
+  return albedo * distribution(h) * g2(wo_local, wi_local) / (4.0 * wo_local.z * wi_local.z);
+}
+std::optional<BsdfSample> GgxBsdf::sample(const Vec3& wo_local, double u1, double u2) const {
+  if (!(wo_local.z > 0)) return std::nullopt;
+  BsdfSample s;
+  s.wi_local = reflect_about(wo_local, sample_visible_normal(wo_local, u1, u2));
+  if (!(s.wi_local.z > 0)) return std::nullopt;  // reflected below the horizon: failed sample
+  s.pdf_solid_angle = pdf(wo_local, s.wi_local);
+  if (!(s.pdf_solid_angle > 0)) return std::nullopt;
+  s.weight = eval(wo_local, s.wi_local) * s.wi_local.z / s.pdf_solid_angle;
+  return s;
+}
+double GgxBsdf::pdf(const Vec3& wo_local, const Vec3& wi_local) const {
+  if (!(wo_local.z > 0 && wi_local.z > 0)) return 0.0;
+  const Vec3 h = scene_normalize(wo_local + wi_local);
+  // dωi/dωh = 4 wo·h (reflection's Jacobian); wo·h ≥ 0 for h the half vector of two unit vectors.
+  const double wo_dot_h = dot(wo_local, h);
+  if (!(wo_dot_h > 0)) return 0.0;
+  return visible_normal_pdf(wo_local, h) / (4.0 * wo_dot_h);
+}
+
 double Bsdf::eval(const Vec3& wo_local, const Vec3& wi_local) const {
   switch (material->type) {
     case BsdfType::kLambertian: return LambertianBsdf{material->albedo}.eval(wo_local, wi_local);
     case BsdfType::kMirror: return MirrorBsdf{material->albedo}.eval(wo_local, wi_local);
     case BsdfType::kPhong: return PhongBsdf{material->albedo, material->phong_exponent, defect}.eval(wo_local, wi_local);
-    case BsdfType::kGgx: return 0.0;  // TODO(issue 29)
+    case BsdfType::kGgx: return ggx(*material, defect).eval(wo_local, wi_local);
   }
   return 0.0;
 }
@@ -80,7 +136,7 @@ std::optional<BsdfSample> Bsdf::sample(const Vec3& wo_local, double u1, double u
     case BsdfType::kLambertian: return LambertianBsdf{material->albedo}.sample(wo_local, u1, u2);
     case BsdfType::kMirror: return MirrorBsdf{material->albedo}.sample(wo_local, u1, u2);
     case BsdfType::kPhong: return PhongBsdf{material->albedo, material->phong_exponent, defect}.sample(wo_local, u1, u2);
-    case BsdfType::kGgx: return std::nullopt;  // TODO(issue 29)
+    case BsdfType::kGgx: return ggx(*material, defect).sample(wo_local, u1, u2);
   }
   return std::nullopt;
 }
@@ -89,7 +145,7 @@ double Bsdf::pdf(const Vec3& wo_local, const Vec3& wi_local) const {
     case BsdfType::kLambertian: return LambertianBsdf{material->albedo}.pdf(wo_local, wi_local);
     case BsdfType::kMirror: return MirrorBsdf{material->albedo}.pdf(wo_local, wi_local);
     case BsdfType::kPhong: return PhongBsdf{material->albedo, material->phong_exponent, defect}.pdf(wo_local, wi_local);
-    case BsdfType::kGgx: return 0.0;  // TODO(issue 29)
+    case BsdfType::kGgx: return ggx(*material, defect).pdf(wo_local, wi_local);
   }
   return 0.0;
 }

@@ -14,6 +14,7 @@
 
 #include "core/scene.h"
 #include "core/strategy.h"
+#include "renderer/microfacet.h"
 #include "renderer/sampling.h"
 
 namespace furnace {
@@ -58,10 +59,49 @@ struct PhongBsdf {
   double pdf(const Vec3& wo_local, const Vec3& wi_local) const;
 };
 
+// Isotropic GGX (Trowbridge–Reitz) microfacet reflection with Fresnel ≡ 1
+// (renderer/microfacet.h has the formulas and their citations):
+//   f = albedo·D(h)·G2(wo, wi)/(4 cos θo cos θi),  h = normalize(wo + wi),
+// for wo and wi above the horizon, else 0; G2 separable or height-correlated
+// as the material says. Sampling: a visible normal m ~ D_wo (exact), then
+// wi = reflect(wo, m), whose density is D_wo(h)/(4 wo·h); a wi at or below
+// the horizon is a failed sample (the directional albedo then falls short of
+// the albedo: that energy is lost by the model, not by the sampler).
+//
+// Negative controls (core/strategy.h, kDefectTable), each acting only when
+// `defect` is that value, inside the parts below so that eval, sample and pdf
+// all see them:
+//  - DEFECT(ggx_vndf_pdf_without_g1): visible_normal_pdf drops G1(wo);
+//  - DEFECT(ggx_sample_alpha_squared): sample_visible_normal stretches by α²;
+//  - DEFECT(ggx_lambda_other_alpha): lambda uses α² (D keeps α);
+//  - DEFECT(ggx_separable_as_height_correlated): g2 is separable for a
+//    height-correlated material;
+//  - DEFECT(ggx_d_without_inv_pi): distribution is π·D.
+struct GgxBsdf {
+  double albedo = 0;
+  double alpha = 1;
+  MicrofacetShadowing shadowing = MicrofacetShadowing::kHeightCorrelated;
+  Defect defect = Defect::kNone;
+
+  double eval(const Vec3& wo_local, const Vec3& wi_local) const;
+  std::optional<BsdfSample> sample(const Vec3& wo_local, double u1, double u2) const;
+  // Density in solid angle (sr⁻¹) of sample()'s wi: D_wo(h)/(4 wo·h) on
+  // wi.z > 0 (wo.z > 0), 0 elsewhere.
+  double pdf(const Vec3& wo_local, const Vec3& wi_local) const;
+
+  // The parts, defects applied (the free functions of microfacet.h when defect is kNone).
+  double distribution(const Vec3& m) const;                  // D(m), sr⁻¹
+  double lambda(const Vec3& w) const;                        // Smith Λ(w)
+  double g1(const Vec3& w) const { return ggx_g1_from_lambda(lambda(w)); }
+  double g2(const Vec3& wo_local, const Vec3& wi_local) const;
+  double visible_normal_pdf(const Vec3& wo_local, const Vec3& m) const;  // D_wo(m), sr⁻¹ of m
+  Vec3 sample_visible_normal(const Vec3& wo_local, double u1, double u2) const;
+};
+
 // Dispatch over the scene's material types.
 struct Bsdf {
   const Material* material = nullptr;
-  Defect defect = Defect::kNone;  // negative controls only (PhongBsdf)
+  Defect defect = Defect::kNone;  // negative controls only (PhongBsdf, GgxBsdf)
 
   bool is_delta() const { return material->type == BsdfType::kMirror; }
   bool is_black() const { return !(material->albedo > 0); }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <iostream>
 #include <ostream>
 #include <string>
 #include <tuple>
@@ -36,6 +37,13 @@ Material make_material(BsdfType type, double albedo, double exponent = 0) {
   m.type = type;
   m.albedo = albedo;
   m.phong_exponent = exponent;
+  return m;
+}
+
+Material make_ggx(double albedo, double alpha, MicrofacetShadowing shadowing) {
+  Material m = make_material(BsdfType::kGgx, albedo);
+  m.ggx_alpha = alpha;
+  m.shadowing = shadowing;
   return m;
 }
 
@@ -91,7 +99,9 @@ TEST_P(BsdfTest, PdfIntegratesToSuccessProbability) {
     success.add(b.sample(wo(), u1, u2).has_value() ? 1.0 : 0.0);
   }
   EXPECT_TRUE(testing_support::means_consistent(mass, success)) << mass.mean << " vs " << success.mean;
-  if (std::get<0>(GetParam()).material.type == BsdfType::kLambertian || std::get<1>(GetParam()) == 0.0) {
+  const BsdfType type = std::get<0>(GetParam()).material.type;
+  // GGX reflects part of every lobe below the horizon, even at normal incidence.
+  if (type == BsdfType::kLambertian || (type == BsdfType::kPhong && std::get<1>(GetParam()) == 0.0)) {
     EXPECT_EQ(success.mean, 1.0);  // nothing of the lobe lies below the horizon
   }
 }
@@ -129,7 +139,14 @@ INSTANTIATE_TEST_SUITE_P(
     testing::Combine(testing::Values(MaterialCase{"Lambertian", make_material(BsdfType::kLambertian, 0.7)},
                                      MaterialCase{"Phong1", make_material(BsdfType::kPhong, 0.8, 1)},
                                      MaterialCase{"Phong10", make_material(BsdfType::kPhong, 0.8, 10)},
-                                     MaterialCase{"Phong200", make_material(BsdfType::kPhong, 0.9, 200)}),
+                                     MaterialCase{"Phong200", make_material(BsdfType::kPhong, 0.9, 200)},
+                                     // GGX lobes wide enough for the uniform-hemisphere estimates below.
+                                     MaterialCase{"GgxAlpha0p2HeightCorrelated",
+                                                  make_ggx(0.8, 0.2, MicrofacetShadowing::kHeightCorrelated)},
+                                     MaterialCase{"GgxAlpha0p5Separable",
+                                                  make_ggx(0.8, 0.5, MicrofacetShadowing::kSeparable)},
+                                     MaterialCase{"GgxAlpha1HeightCorrelated",
+                                                  make_ggx(0.8, 1.0, MicrofacetShadowing::kHeightCorrelated)}),
                      testing::Values(0.0, 30.0, 60.0, 85.0)),
     case_name);
 
@@ -140,6 +157,29 @@ TEST(PhongBsdf, AlbedoAtNormalIncidenceIsRho) {
         testing_support::integrate_directions([&](const Vec3& wi) { return b.eval({0, 0, 1}, wi) * wi.z; }, 0, 1);
     EXPECT_NEAR(albedo, 0.8, kQuadratureTol) << "n = " << n;
   }
+}
+
+// Negative control of the two tests above: with DEFECT(ggx_vndf_pdf_without_g1)
+// the pdf integrates to 1/G1(wo) times the success probability, and the
+// weight (computed from that pdf) falls short of the directional albedo by G1(wo).
+TEST(GgxBsdf, PdfWithoutG1FailsNormalisationAndAlbedo) {
+  Material m = make_ggx(0.8, 0.5, MicrofacetShadowing::kHeightCorrelated);
+  const Bsdf b{&m, Defect::kGgxVndfPdfWithoutG1};
+  const Vec3 wo = wo_at(60);
+  const RunningMoments mass = hemisphere_integral([&](const Vec3& wi) { return b.pdf(wo, wi); }, 10);
+  const RunningMoments albedo = hemisphere_integral([&](const Vec3& wi) { return b.eval(wo, wi) * wi.z; }, 11);
+  RunningMoments success, weight;
+  for (int i = 0; i < kSamples; ++i) {
+    Rng rng(kSeed, 1, uint64_t(i));
+    const double u1 = rng.next_double(), u2 = rng.next_double();
+    const auto s = b.sample(wo, u1, u2);
+    success.add(s ? 1.0 : 0.0);
+    weight.add(s ? s->weight : 0.0);
+  }
+  std::cout << "  ggx_vndf_pdf_without_g1: int pdf " << mass.mean << " vs success " << success.mean
+            << "; albedo " << albedo.mean << " vs mean weight " << weight.mean << "\n";
+  EXPECT_FALSE(testing_support::means_consistent(mass, success));
+  EXPECT_FALSE(testing_support::means_consistent(albedo, weight));
 }
 
 TEST(LambertianBsdf, CosineSamplingIsExact) {
