@@ -22,9 +22,11 @@
 //  - Λ uses tan²θ = (x² + y²)/z² and the cancellation-free form
 //    α²tan²θ/(2(√(1 + α²tan²θ) + 1)); at z → 0 the form gives Λ = +∞ and
 //    G1 = G2 = 0 (never ∞/∞);
-//  - the sampler is Dupuy & Benyoub 2023 ("Sound and Complete Sampling of
-//    Visible GGX Normals with Spherical Caps", HPG/CGF 42(8)), exact like
-//    Heitz 2018 (JCGT 7(4)): in the configuration stretched to α = 1 the
+//  - the sampler is Dupuy & Benyoub 2023 ("Sampling Visible GGX Normals with
+//    Spherical Caps", Computer Graphics Forum 42(8), HPG), exact like Heitz
+//    2018 ("Sampling the GGX Distribution of Visible Normals", JCGT 7(4)) and
+//    unlike the approximate inverse CDF of Heitz & d'Eon 2014; in the
+//    configuration stretched to α = 1 the
 //    visible normals of view v are the directions of c + v, c uniform on the
 //    spherical cap {c_z ≥ −v_z} of the unit sphere; the normal is then
 //    unstretched. The cap's 1 − c_z and 1 + c_z are formed without
