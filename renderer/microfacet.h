@@ -22,12 +22,13 @@
 //  - Λ uses tan²θ = (x² + y²)/z² and the cancellation-free form
 //    α²tan²θ/(2(√(1 + α²tan²θ) + 1)); at z → 0 the form gives Λ = +∞ and
 //    G1 = G2 = 0 (never ∞/∞);
-//  - the sampler is Dupuy & Benyoub 2023 ("Sound and Complete Sampling of
-//    Visible GGX Normals with Spherical Caps", HPG/CGF 42(8)), exact like
-//    Heitz 2018 (JCGT 7(4)): in the configuration stretched to α = 1 the
-//    visible normals of view v are the directions of c + v, c uniform on the
-//    spherical cap {c_z ≥ −v_z} of the unit sphere; the normal is then
-//    unstretched. The cap's 1 − c_z and 1 + c_z are formed without
+//  - the sampler is Dupuy & Benyoub 2023 ("Sampling Visible GGX Normals with
+//    Spherical Caps", Computer Graphics Forum 42(8), HPG), exact like Heitz
+//    2018 ("Sampling the GGX Distribution of Visible Normals", JCGT 7(4)) and
+//    unlike the approximate inverse CDF of Heitz & d'Eon 2014. In the
+//    configuration stretched to α = 1 the visible normals of view v are the
+//    directions of c + v, c uniform on the spherical cap {c_z ≥ −v_z} of the
+//    unit sphere; the normal is then unstretched. The cap's 1 − c_z and 1 + c_z are formed without
 //    subtraction (1 − v_z = (v_x² + v_y²)/(1 + v_z)), and h_z = c_z + v_z
 //    directly as (1 − u1)(1 + v_z) > 0, so every normal drawn has m_z > 0;
 //  - no α² − 1 forms (which lose all digits as α → 1 and divide by zero at 1).
