@@ -34,9 +34,9 @@ struct Microfacet {
 
 // D(h) = α²|H|⁴/(π(α²(n·H)² + |H⊥|²)²) with |H|² = 2(1 − cos α + 2μoμi),
 // n·H = μo + μi, |H⊥|² = 2(1 − cos α) − (μi − μo)² (clamped at 0: the two
-// terms are equal to round-off at the mirror direction, where |H⊥| = 0).
-double ggx_d(double alpha2, double mu_o, double mu_i, double cos_alpha) {
-  const double gap = 1 - cos_alpha;  // 1 − r·ωi ≥ 0
+// terms are equal to round-off at the mirror direction, where |H⊥| = 0);
+// gap = 1 − cos α = 1 − r·ωi ≥ 0.
+double ggx_d(double alpha2, double mu_o, double mu_i, double gap) {
   const double h2 = 2 * (gap + 2 * mu_o * mu_i);
   const double nh = mu_o + mu_i;
   const double dmu = mu_i - mu_o;
@@ -87,7 +87,7 @@ double ggx_lambda(double alpha, double cos_theta) {
 double ggx_brdf(double albedo, double alpha, MicrofacetShadowing shadowing, double cos_theta_o, double cos_theta_i,
                 double cos_alpha) {
   if (!(cos_theta_o > 0) || !(cos_theta_i > 0)) return 0.0;
-  const double d = ggx_d(alpha * alpha, cos_theta_o, cos_theta_i, cos_alpha);
+  const double d = ggx_d(alpha * alpha, cos_theta_o, cos_theta_i, 1 - cos_alpha);
   const double g2 = smith_g2(shadowing, ggx_lambda(alpha, cos_theta_o), ggx_lambda(alpha, cos_theta_i));
   return albedo * d * g2 / (4 * cos_theta_o * cos_theta_i);
 }
@@ -101,11 +101,15 @@ GgxReceiver::GgxReceiver(const Vec3& n, const Vec3& wo, double albedo, double al
       lambda_o_(ggx_lambda(alpha, dot(n, wo))),
       alpha2_(alpha * alpha) {}
 
-// inline (a hint): the machinery (receiver_integrals.h, instantiated below)
-// calls it at every quadrature node; only this file calls it directly.
-inline BsdfValue GgxReceiver::at(double cos_theta, double cos_alpha) const {
+BsdfValue GgxReceiver::at(double cos_theta, double cos_alpha) const {
+  return at_direction(cos_theta, cos_alpha, 1 - cos_alpha);
+}
+
+// The machinery (receiver_integrals.h, instantiated below, in this file)
+// calls it at every quadrature node, where the compiler sees its definition.
+BsdfValue GgxReceiver::at_direction(double cos_theta, double, double one_minus_cos_alpha) const {
   const double mu_o = cos_theta_o_;
-  const double d = ggx_d(alpha2_, mu_o, cos_theta, cos_alpha);
+  const double d = ggx_d(alpha2_, mu_o, cos_theta, one_minus_cos_alpha);
   const double lambda_i = ggx_lambda(alpha, cos_theta);
   const double g1o = 1 / (1 + lambda_o_);
   BsdfValue value;

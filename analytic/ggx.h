@@ -76,7 +76,12 @@ class GgxReceiver final : public ReceiverModel<GgxReceiver> {
   double alpha = 0;
   MicrofacetShadowing shadowing = MicrofacetShadowing::kHeightCorrelated;
 
+  // at_direction with 1 − cos α computed from cos α (off by ~ε/(1 − cos α)
+  // relative near the mirror direction: the machinery calls at_direction).
   BsdfValue at(double cos_theta, double cos_alpha) const override;
+  // The BSDF from 1 − cos α accurate relative to itself (receiver.h): D reads
+  // |H⊥|² = 2(1 − cos α) − (μi − μo)², whose scale at the peak is ~α².
+  BsdfValue at_direction(double cos_theta, double cos_alpha, double one_minus_cos_alpha) const;
   bool vanishes_below_mirror_plane() const override { return false; }
   std::vector<double> parameters() const override;
   std::string name() const override { return "a GGX receiver"; }
