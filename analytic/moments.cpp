@@ -2,7 +2,7 @@
 // Lambertian receiver's estimators from the emitter kernels
 // (light_moments.h, light_solid_angle_moments.h), the point lights, the
 // environment and MIS (mis_moments.h); a glossy hit by its receiver model
-// (phong.h, receiver.h).
+// (phong.h, ggx.h, receiver.h).
 #include "analytic/moments.h"
 
 #include <array>
@@ -15,6 +15,7 @@
 #include "analytic/environment.h"
 #include "analytic/environment_map.h"
 #include "analytic/error_ledger.h"
+#include "analytic/ggx.h"
 #include "analytic/light_moments.h"
 #include "analytic/light_solid_angle_moments.h"
 #include "analytic/mis_moments.h"
@@ -182,9 +183,21 @@ double second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const
 
 namespace {
 
+// A glossy hit's forms (phong.h, ggx.h) for the receiver's material type.
+double glossy_reflected_radiance(const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo, size_t receiver) {
+  return scene.objects[receiver].material.type == BsdfType::kGgx ? ggx_reflected_radiance(scene, p, n, wo, receiver)
+                                                                   : phong_reflected_radiance(scene, p, n, wo, receiver);
+}
+double glossy_second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo,
+                            size_t receiver, LightSelection selection) {
+  return scene.objects[receiver].material.type == BsdfType::kGgx
+             ? ggx_second_moment(strategy, scene, p, n, wo, receiver, selection)
+             : phong_second_moment(strategy, scene, p, n, wo, receiver, selection);
+}
+
 // pixel_center_second_moment's steps for N second moments at once:
 // phong(p, n, wo, receiver) gives the N glossy estimators' E[Y²] at a Phong
-// hit, lambertian(p, n, receiver) the N irradiance estimators' at a
+// or GGX hit, lambertian(p, n, receiver) the N irradiance estimators' at a
 // Lambertian one.
 template <size_t N, class Phong, class Lambertian>
 std::array<double, N> pixel_center_moments(const Scene& scene, int px, int py, Phong phong, Lambertian lambertian) {
@@ -204,9 +217,10 @@ std::array<double, N> pixel_center_moments(const Scene& scene, int px, int py, P
   }
   const Vec3 n = cos_view < 0 ? hit->normal : -hit->normal;
   switch (object.material.type) {
-    case BsdfType::kPhong: {
-      // Y_px = Le + Y with Y the glossy estimator (phong.h), emission constant.
-      const double e = phong_reflected_radiance(scene, hit->point, n, -ray.direction, hit->object_index);
+    case BsdfType::kPhong:
+    case BsdfType::kGgx: {
+      // Y_px = Le + Y with Y the glossy estimator (phong.h, ggx.h), emission constant.
+      const double e = glossy_reflected_radiance(scene, hit->point, n, -ray.direction, hit->object_index);
       const std::array<double, N> m = phong(hit->point, n, -ray.direction, hit->object_index);
       for (size_t i = 0; i < N; ++i) out[i] = le * le + 2 * le * e + m[i];
       return out;
@@ -220,8 +234,6 @@ std::array<double, N> pixel_center_moments(const Scene& scene, int px, int py, P
     }
     case BsdfType::kMirror:
       break;  // a delta lobe: no receiver model
-    case BsdfType::kGgx:
-      break;  // TODO(issue 29): the GGX receiver
   }
   unsupported_configuration(scene, "a camera ray hitting the non-Lambertian, non-black object '" + object.name + "'");
 }
@@ -232,7 +244,7 @@ double pixel_center_second_moment(Strategy strategy, const Scene& scene, int px,
   return pixel_center_moments<1>(
       scene, px, py,
       [&](const Vec3& p, const Vec3& n, const Vec3& wo, size_t receiver) {
-        return std::array<double, 1>{phong_second_moment(strategy, scene, p, n, wo, receiver, selection)};
+        return std::array<double, 1>{glossy_second_moment(strategy, scene, p, n, wo, receiver, selection)};
       },
       [&](const Vec3& p, const Vec3& n, size_t receiver) {
         return std::array<double, 1>{second_moment(strategy, scene, p, n, receiver, selection)};
@@ -245,8 +257,8 @@ std::array<double, 2> pixel_center_multi_sample_mis_second_moments(const Scene& 
       scene, px, py,
       [&](const Vec3& p, const Vec3& n, const Vec3& wo, size_t receiver) {
         // The glossy estimators have no shared quadrature: one each.
-        return std::array<double, 2>{phong_second_moment(Strategy::kMisBalance, scene, p, n, wo, receiver, selection),
-                                     phong_second_moment(Strategy::kMisPower, scene, p, n, wo, receiver, selection)};
+        return std::array<double, 2>{glossy_second_moment(Strategy::kMisBalance, scene, p, n, wo, receiver, selection),
+                                     glossy_second_moment(Strategy::kMisPower, scene, p, n, wo, receiver, selection)};
       },
       [&](const Vec3& p, const Vec3& n, size_t receiver) {
         return multi_sample_mis_second_moments(scene, p, n, receiver, selection);

@@ -119,6 +119,12 @@ template <class R>
 class ReceiverModel : public Receiver {
  public:
   using Receiver::Receiver;
+  // at() where the machinery also has 1 − cos α accurate relative to itself
+  // (|ω − r|²/2): R hides this to use it (a lobe narrow about r, such as GGX at
+  // small α, whose f read from cos α alone is off by ~ε/(1 − cos α)).
+  BsdfValue at_direction(double cos_theta, double cos_alpha, double /*one_minus_cos_alpha*/) const {
+    return static_cast<const R&>(*this).R::at(cos_theta, cos_alpha);
+  }
   double light_reflectance(const ReceiverLight& light) const final;
   double second_moment(Strategy strategy, const std::vector<ReceiverLight>& lights) const final;
 };

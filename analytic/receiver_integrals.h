@@ -104,8 +104,12 @@ double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
             const double cos_theta = ring.cos_gamma * na + ring.sin_gamma * (c * ns + s * nt);
             if (!(cos_theta > 0)) return 0.0;
             const double cos_alpha = ring.cos_gamma * ra + ring.sin_gamma * (c * rs + s * rt);
-            return g(Direction{cos_theta, cos_alpha, receiver.R::at(cos_theta, cos_alpha), &ring}) * ring.measure *
-                   dpsi_dtau;
+            // 1 − cos α = |ω − r|²/2 from component differences: relative error ~ε/|ω − r|, not ε/|ω − r|².
+            const double da = ring.cos_gamma - ra, ds = ring.sin_gamma * c - rs, dt = ring.sin_gamma * s - rt;
+            const double one_minus_cos_alpha = 0.5 * (da * da + ds * ds + dt * dt);
+            return g(Direction{cos_theta, cos_alpha, receiver.R::at_direction(cos_theta, cos_alpha, one_minus_cos_alpha),
+                               &ring}) *
+                   ring.measure * dpsi_dtau;
           };
           value += adaptive_gauss_kronrod_relative(inner, -arc.tau_max, arc.tau_max, kReceiverQuadratureTolerance,
                                                    kReceiverQuadratureDepth);

@@ -11,6 +11,7 @@
 #include "analytic/disk_light.h"
 #include "analytic/emitter.h"
 #include "analytic/environment.h"
+#include "analytic/ggx.h"
 #include "analytic/intersect.h"
 #include "analytic/phong.h"
 #include "analytic/point_light.h"
@@ -67,8 +68,8 @@ double ray_radiance(const Scene& scene, const Vec3& origin, const Vec3& directio
       return le + object.material.albedo * kInvPi * irradiance(scene, hit->point, n, hit->object_index);
     case BsdfType::kMirror:
       break;  // a delta lobe: no receiver model
-    case BsdfType::kGgx:
-      break;  // TODO(issue 29): the GGX receiver
+    case BsdfType::kGgx:  // the microfacet BRDF integrated over the lights (ggx.h)
+      return le + ggx_reflected_radiance(scene, hit->point, n, -ray.direction, hit->object_index);
   }
   unsupported_configuration(scene, "a camera ray hitting the non-Lambertian, non-black object '" + object.name + "'");
 }

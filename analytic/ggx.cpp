@@ -1,0 +1,147 @@
+// The GGX microfacet BRDF as a Receiver (ggx.h); the integrals are the
+// receiver model's (receiver.cpp).
+//
+// The closed forms at α = 1 (ggx.h), derived: Λ(ω) = (√(1 + tan²θ) − 1)/2 =
+// (1/μ − 1)/2 = (1 − μ)/(2μ), so 1 + Λ = (1 + μ)/(2μ) and G1 = 2μ/(1 + μ);
+// D(m) = 1/(π(m_z² + m_x² + m_y²)²) = 1/π. Then
+//  - separable: f = ρ/π·G1(μo)G1(μi)/(4μoμi) = ρ/(π(1 + μo)(1 + μi)), and
+//    ∫ f μi dω = 2πρ/(π(1 + μo))·∫₀¹ μ/(1 + μ) dμ = 2(1 − ln 2)ρ/(1 + μo);
+//  - height-correlated: 1 + Λo + Λi = (μo + μi)/(2μoμi), f = ρ/(2π(μo + μi)),
+//    and ∫ f μi dω = ρ·∫₀¹ μ/(μo + μ) dμ = ρ(1 − μo ln((1 + μo)/μo)).
+// And p_b = G1(μo)/(4πμo) = 1/(2π(1 + μo)) is constant over the directions
+// above the horizon: the fraction of bsdf samples that are not failed is
+// 2π/(2π(1 + μo)) = 1/(1 + μo).
+#include "analytic/ggx.h"
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "analytic/receiver_integrals.h"
+#include "analytic/unsupported.h"
+#include "core/error.h"
+
+namespace furnace::analytic {
+
+namespace {
+
+// The microfacet terms at one incident direction, from the two cosines
+// (ggx.h): everything f, p_b and their ratio need, computed once.
+struct Microfacet {
+  double d = 0;         // D(h), sr⁻¹
+  double lambda_i = 0;  // Λ(ωi)
+};
+
+// D(h) = α²|H|⁴/(π(α²(n·H)² + |H⊥|²)²) with |H|² = 2(1 − cos α + 2μoμi),
+// n·H = μo + μi, |H⊥|² = 2(1 − cos α) − (μi − μo)² (clamped at 0: the two
+// terms are equal to round-off at the mirror direction, where |H⊥| = 0);
+// gap = 1 − cos α = 1 − r·ωi ≥ 0.
+double ggx_d(double alpha2, double mu_o, double mu_i, double gap) {
+  const double h2 = 2 * (gap + 2 * mu_o * mu_i);
+  const double nh = mu_o + mu_i;
+  const double dmu = mu_i - mu_o;
+  const double h_perp2 = std::fmax(2 * gap - dmu * dmu, 0.0);
+  const double denom = alpha2 * nh * nh + h_perp2;
+  return alpha2 * h2 * h2 / (kPi * denom * denom);
+}
+
+// G2 and G2²/G1(ωo) of the Smith form from Λ(ωo), Λ(ωi).
+double smith_g2(MicrofacetShadowing shadowing, double lambda_o, double lambda_i) {
+  switch (shadowing) {
+    case MicrofacetShadowing::kSeparable:
+      return 1 / ((1 + lambda_o) * (1 + lambda_i));
+    case MicrofacetShadowing::kHeightCorrelated:
+      return 1 / (1 + lambda_o + lambda_i);
+  }
+  return 0;  // not an enumerator (-Werror=switch lists them all)
+}
+double smith_g2_squared_over_g1o(MicrofacetShadowing shadowing, double lambda_o, double lambda_i) {
+  switch (shadowing) {
+    case MicrofacetShadowing::kSeparable: {
+      const double g1i = 1 / (1 + lambda_i);
+      return g1i * g1i / (1 + lambda_o);
+    }
+    case MicrofacetShadowing::kHeightCorrelated: {
+      const double s = 1 + lambda_o + lambda_i;
+      return (1 + lambda_o) / (s * s);
+    }
+  }
+  return 0;
+}
+
+GgxReceiver receiver_at(const Scene& scene, const Vec3& n, const Vec3& wo, size_t receiver) {
+  const Material& m = scene.objects[receiver].material;
+  FURNACE_CHECK(m.type == BsdfType::kGgx);
+  if (!(dot(n, wo) > 0)) unsupported_configuration(scene, "a GGX receiver seen from below its horizon");
+  return GgxReceiver{n, wo, m.albedo, m.ggx_alpha, m.shadowing};
+}
+
+}  // namespace
+
+double ggx_lambda(double alpha, double cos_theta) {
+  // α²tan²θ with sin²θ = (1 − μ)(1 + μ) (no cancellation near μ = 1).
+  const double a = alpha * alpha * (1 - cos_theta) * (1 + cos_theta) / (cos_theta * cos_theta);
+  return a / (2 * (std::sqrt(1 + a) + 1));
+}
+
+double ggx_brdf(double albedo, double alpha, MicrofacetShadowing shadowing, double cos_theta_o, double cos_theta_i,
+                double cos_alpha) {
+  if (!(cos_theta_o > 0) || !(cos_theta_i > 0)) return 0.0;
+  const double d = ggx_d(alpha * alpha, cos_theta_o, cos_theta_i, 1 - cos_alpha);
+  const double g2 = smith_g2(shadowing, ggx_lambda(alpha, cos_theta_o), ggx_lambda(alpha, cos_theta_i));
+  return albedo * d * g2 / (4 * cos_theta_o * cos_theta_i);
+}
+
+GgxReceiver::GgxReceiver(const Vec3& n, const Vec3& wo, double albedo, double alpha, MicrofacetShadowing shadowing)
+    : ReceiverModel(n, wo),
+      albedo(albedo),
+      alpha(alpha),
+      shadowing(shadowing),
+      cos_theta_o_(dot(n, wo)),
+      lambda_o_(ggx_lambda(alpha, dot(n, wo))),
+      alpha2_(alpha * alpha) {}
+
+BsdfValue GgxReceiver::at(double cos_theta, double cos_alpha) const {
+  return at_direction(cos_theta, cos_alpha, 1 - cos_alpha);
+}
+
+// The machinery (receiver_integrals.h, instantiated below, in this file)
+// calls it at every quadrature node, where the compiler sees its definition.
+BsdfValue GgxReceiver::at_direction(double cos_theta, double, double one_minus_cos_alpha) const {
+  const double mu_o = cos_theta_o_;
+  const double d = ggx_d(alpha2_, mu_o, cos_theta, one_minus_cos_alpha);
+  const double lambda_i = ggx_lambda(alpha, cos_theta);
+  const double g1o = 1 / (1 + lambda_o_);
+  BsdfValue value;
+  value.f_cos = albedo * d * smith_g2(shadowing, lambda_o_, lambda_i) / (4 * mu_o);
+  value.pdf_solid_angle = g1o * d / (4 * mu_o);
+  value.f_cos2_over_pdf = albedo * albedo * d * smith_g2_squared_over_g1o(shadowing, lambda_o_, lambda_i) / (4 * mu_o);
+  return value;
+}
+
+std::vector<double> GgxReceiver::parameters() const {
+  return {double(BsdfType::kGgx), albedo, alpha, double(shadowing)};
+}
+
+template class ReceiverModel<GgxReceiver>;
+
+double ggx_sphere_reflectance(const GgxReceiver& receiver, const Vec3& center, double radius) {
+  return light_reflectance(receiver, ReceiverLight{false, center, radius, 1.0, 1.0});
+}
+
+double ggx_directional_albedo(const GgxReceiver& receiver) {
+  return light_reflectance(receiver, ReceiverLight{true, {}, 0, 1.0, 1.0});
+}
+
+double ggx_reflected_radiance(const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo, size_t receiver) {
+  return receiver_reflected_radiance(scene, p, receiver_at(scene, n, wo, receiver), receiver);
+}
+
+double ggx_second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo,
+                         size_t receiver, LightSelection selection) {
+  if (is_path_tracer(strategy))
+    unsupported_configuration(scene, "the path tracer '" + strategy_name(strategy) + "' over a GGX receiver");
+  return receiver_second_moment(strategy, scene, p, receiver_at(scene, n, wo, receiver), receiver, selection);
+}
+
+}  // namespace furnace::analytic
