@@ -66,13 +66,16 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
       {"glossy_environment.json", glossy_sky, kUnlimitedDepth},
       // GGX microfacets (F ≡ 1): normal view under a sky, α 1 … 0.05 (both
       // Smith forms coincide there); oblique views at cos θo 0.5 and 0.2 with
-      // α 1 and 0.3 in both forms side by side, under a sky and a sphere light
-      // near the specular direction. A single plane cannot see itself, so the
+      // α 1 and 0.3 in both forms side by side, under a sky, and under a
+      // sphere light near the specular direction (two scenes: the receiver
+      // model does not solve a sky partly hidden by a light). A single plane cannot see itself, so the
       // path tracers' answer is the direct one (mean tests only: no
       // single-sample variance model for a path).
       {"ggx_sky_strips.json", everything, kUnlimitedDepth},
-      {"ggx_oblique_60.json", everything, kUnlimitedDepth},
-      {"ggx_oblique_78.json", everything, kUnlimitedDepth},
+      {"ggx_oblique_sky_60.json", everything, kUnlimitedDepth},
+      {"ggx_oblique_sky_78.json", everything, kUnlimitedDepth},
+      {"ggx_oblique_sphere_60.json", everything, kUnlimitedDepth},
+      {"ggx_oblique_sphere_78.json", everything, kUnlimitedDepth},
       // Hard cases, each there for one bug class (README, "The built-in suite").
       // Receivers and camera rays that see the backs of one-sided lights.
       {"back_facing_emitters.json", everything, kUnlimitedDepth},

@@ -55,8 +55,8 @@ TEST_P(GgxDefect, FailsTheGgxCaseThatCanSeeIt) {
 INSTANTIATE_TEST_SUITE_P(
     GgxControls, GgxDefect,
     testing::Values(
-        GgxControl{"VndfPdfWithoutG1", "ggx_oblique_78.json", Strategy::kBsdf, Defect::kGgxVndfPdfWithoutG1},
-        GgxControl{"SeparableAsHeightCorrelated", "ggx_oblique_78.json", Strategy::kLightSolidAngle,
+        GgxControl{"VndfPdfWithoutG1", "ggx_oblique_sky_78.json", Strategy::kBsdf, Defect::kGgxVndfPdfWithoutG1},
+        GgxControl{"SeparableAsHeightCorrelated", "ggx_oblique_sky_78.json", Strategy::kLightSolidAngle,
                    Defect::kGgxSeparableAsHeightCorrelated},
         GgxControl{"SampleAlphaSquared", "ggx_sky_strips.json", Strategy::kBsdf, Defect::kGgxSampleAlphaSquared},
         GgxControl{"LambdaOtherAlpha", "ggx_sky_strips.json", Strategy::kLightSolidAngle, Defect::kGgxLambdaOtherAlpha},
