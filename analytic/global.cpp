@@ -48,6 +48,43 @@ Vec3 planar_center(const Shape& s) {
                     s);
 }
 
+// Whether the reflecting objects (albedo > 0, mirrors excluded) are all
+// planar and lie in one plane: then no light reflected by one reaches
+// another (each sends light into a half-space above that plane, where
+// nothing else reflects), so light reaches the eye after at most one bounce.
+// One plane: every normal parallel to the first's and every centroid within
+// a relative round-off of its plane.
+bool reflectors_share_one_plane(const Scene& scene) {
+  std::optional<Plane> first;
+  for (const Object& o : scene.objects) {
+    if (is_mirror(o) || !(o.material.albedo > 0)) continue;
+    const std::optional<Plane> plane = plane_of(o.shape);
+    if (!plane) return false;
+    if (!first) {
+      first = plane;
+      continue;
+    }
+    const Vec3 c = planar_center(o.shape);
+    // Relative to the scene's scale: a few hundred ulps, as the receiver model's coplanar test.
+    const double scale = std::fmax(1.0, std::fmax(max_abs_component(c), max_abs_component(first->point)));
+    if (length(cross(plane->normal, first->normal)) > 1e-13 || std::fabs(dot(c - first->point, first->normal)) > 1e-13 * scale)
+      return false;
+  }
+  return true;
+}
+
+bool is_glossy(const Object& o) {
+  switch (o.material.type) {
+    case BsdfType::kPhong:
+    case BsdfType::kGgx:
+      return true;
+    case BsdfType::kLambertian:
+    case BsdfType::kMirror:
+      return false;
+  }
+  return false;
+}
+
 enum class Kind { kEnclosure, kFurnace, kDirectOnly };
 
 struct Classification {
@@ -58,6 +95,20 @@ struct Classification {
 
 // Decides which closed form covers the non-mirror objects of the scene.
 Classification classify(const Scene& scene, int max_segments) {
+  // Glossy reflectors (Phong, GGX): only the direct-only form, for
+  // reflectors in one plane and no closed enclosure; their direct light is
+  // the receiver model's (reference.h's hit_radiance).
+  for (const Object& o : scene.objects) {
+    if (!is_glossy(o) || !(o.material.albedo > 0)) continue;
+    if (scene.closed || !reflectors_share_one_plane(scene))
+      no_closed_form(scene, fmt::format("the glossy object '{}' ({}) has a closed form only as one of reflectors in "
+                                        "one plane, which light leaves after one bounce",
+                                        o.name, bsdf_type_name(o.material.type)));
+    for (const Object& m : scene.objects)
+      if (is_mirror(m) && m.material.albedo > 0)
+        no_closed_form(scene, fmt::format("the mirror '{}' beside the glossy object '{}'", m.name, o.name));
+    return {Kind::kDirectOnly, 0, 0};
+  }
   std::optional<double> albedo, emission;
   bool uniform = true;
   int reflecting = 0, non_mirror = 0;
@@ -67,7 +118,7 @@ Classification classify(const Scene& scene, int max_segments) {
       if (o.is_emitter()) no_closed_form(scene, fmt::format("mirror '{}' also emits", o.name));
       continue;
     }
-    if (o.material.type != BsdfType::kLambertian)
+    if (o.material.type != BsdfType::kLambertian && o.material.albedo > 0)
       no_closed_form(scene, fmt::format("object '{}' is neither Lambertian nor a mirror", o.name));
     ++non_mirror;
     if (!albedo) albedo = o.material.albedo, emission = o.emitted_radiance;
