@@ -203,6 +203,7 @@ double leaving_radiance(const Scene& scene, const Classification& c, const Hit& 
     case Kind::kDirectOnly: {
       const double le = (front || o.two_sided) ? o.emitted_radiance : 0.0;
       if (segments_left < 2 || o.material.albedo == 0) return le;
+      if (is_glossy(o)) return hit_radiance(scene, hit, direction);  // le + the receiver model's direct light
       const Vec3 n = front ? hit.normal : -hit.normal;
       return le + o.material.albedo * kInvPi * irradiance(scene, hit.point, n, hit.object_index);
     }

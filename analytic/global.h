@@ -46,6 +46,8 @@ double convex_furnace_radiance(double environment_radiance, double albedo, int m
 //    after at most one bounce, so the answer is the direct-lighting reference
 //    for max_segments ≥ 2 and the emission alone for max_segments = 1;
 //    the only form that accepts point lights (and then without mirrors);
+//  - glossy (Phong, GGX) reflectors, all in one plane, no mirror: the same
+//    direct-only answer, the receiver model's (reference.h's hit_radiance);
 //  - perfect mirrors in front of any of the above: the camera ray is
 //    reflected (radiance scaled by the mirror's reflectance) until it meets
 //    a non-mirror surface or escapes.

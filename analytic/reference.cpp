@@ -51,25 +51,28 @@ double pixel_center_radiance(const Scene& scene, int px, int py) {
 }
 
 double ray_radiance(const Scene& scene, const Vec3& origin, const Vec3& direction) {
-  const Camera::Ray ray{origin, direction};
-  const std::optional<Hit> hit = intersect(scene, ray.origin, ray.direction);
-  if (!hit) return environment_radiance(scene.environment, ray.direction);
-  const Object& object = scene.objects[hit->object_index];
-  const double cos_view = dot(ray.direction, hit->normal);
+  const std::optional<Hit> hit = intersect(scene, origin, direction);
+  if (!hit) return environment_radiance(scene.environment, direction);
+  return hit_radiance(scene, *hit, direction);
+}
+
+double hit_radiance(const Scene& scene, const Hit& hit, const Vec3& direction) {
+  const Object& object = scene.objects[hit.object_index];
+  const double cos_view = dot(direction, hit.normal);
   // Emission leaves the front face only, both faces of a two_sided object.
   const double le = (cos_view < 0 || object.two_sided) ? object.emitted_radiance : 0.0;
   if (object.material.albedo == 0) return le;
   // Shade with the normal facing the viewer (two-sided surfaces).
-  const Vec3 n = cos_view < 0 ? hit->normal : -hit->normal;
+  const Vec3 n = cos_view < 0 ? hit.normal : -hit.normal;
   switch (object.material.type) {
     case BsdfType::kPhong:  // the lobe integrated over the lights (phong.h)
-      return le + phong_reflected_radiance(scene, hit->point, n, -ray.direction, hit->object_index);
+      return le + phong_reflected_radiance(scene, hit.point, n, -direction, hit.object_index);
     case BsdfType::kLambertian:
-      return le + object.material.albedo * kInvPi * irradiance(scene, hit->point, n, hit->object_index);
+      return le + object.material.albedo * kInvPi * irradiance(scene, hit.point, n, hit.object_index);
     case BsdfType::kMirror:
       break;  // a delta lobe: no receiver model
     case BsdfType::kGgx:  // the microfacet BRDF integrated over the lights (ggx.h)
-      return le + ggx_reflected_radiance(scene, hit->point, n, -ray.direction, hit->object_index);
+      return le + ggx_reflected_radiance(scene, hit.point, n, -direction, hit.object_index);
   }
   unsupported_configuration(scene, "a camera ray hitting the non-Lambertian, non-black object '" + object.name + "'");
 }
