@@ -82,6 +82,9 @@ class GgxReceiver final : public ReceiverModel<GgxReceiver> {
   // The BSDF from 1 − cos α accurate relative to itself (receiver.h): D reads
   // |H⊥|² = 2(1 − cos α) − (μi − μo)², whose scale at the peak is ~α².
   BsdfValue at_direction(double cos_theta, double cos_alpha, double one_minus_cos_alpha) const;
+  // The lobe's angular scale about r: D halves within ~α of h = n, and
+  // ωi turns by twice h's angle (receiver.h's graded cuts).
+  double lobe_width() const { return alpha; }
   bool vanishes_below_mirror_plane() const override { return false; }
   std::vector<double> parameters() const override;
   std::string name() const override { return "a GGX receiver"; }

@@ -128,8 +128,13 @@ double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
   // Cuts: where the horizon starts to cut the rings (γ = |π/2 − β|, β the
   // axis' angle from n) and the ring through the mirror direction.
   const double beta = std::atan2(length(cross(n, axis)), na);
-  std::vector<double> cuts{0.0, cap.u_max(), cap.u_of_gamma(std::fabs(kPi / 2 - beta)),
-                           cap.u_of_gamma(std::atan2(length(cross(r, axis)), ra))};
+  const double gamma_mirror = std::atan2(length(cross(r, axis)), ra);
+  std::vector<double> cuts{0.0, cap.u_max(), cap.u_of_gamma(std::fabs(kPi / 2 - beta)), cap.u_of_gamma(gamma_mirror)};
+  // A lobe of width w ≪ the cap (R::lobe_width()): rings graded by 2 from the
+  // mirror ring, so that no piece's first estimate spans the peak and its tail.
+  for (double d = receiver.R::lobe_width(); d > 0 && d < kPi; d *= 2)
+    for (double gamma : {gamma_mirror - d, gamma_mirror + d})
+      if (gamma > 0) cuts.push_back(cap.u_of_gamma(gamma));
   std::sort(cuts.begin(), cuts.end());
   double total = 0;
   for (size_t i = 0; i + 1 < cuts.size(); ++i) {
@@ -192,6 +197,12 @@ double second_moment_of(Strategy strategy, const R& receiver, const std::vector<
       if (!(pb > 0)) return 0.0;
       return beta == 2 ? pb * pb / (pb * pb + pl * pl) : pb / (pb + pl);
     };
+    // 1 − w_b as its own quotient: where w_b ≈ 1 (a lobe's peak) 1 − w_b would keep only ε/(1 − w_b) of it.
+    auto weight_light = [&](const Direction& d) {
+      const double pb = d.bsdf.pdf_solid_angle, pl = p_light(d);
+      if (!(pb > 0)) return 1.0;
+      return beta == 2 ? pl * pl / (pb * pb + pl * pl) : pl / (pb + pl);
+    };
     switch (strategy) {
       case Strategy::kUniformHemisphere:
         moment += light_integral(light, receiver, [&](const Direction& d) { return 2 * kPi * h(d) * h(d); });
@@ -213,11 +224,11 @@ double second_moment_of(Strategy strategy, const R& receiver, const std::vector<
           return w * w * h2_over_bsdf(d);
         });
         light2 += light_integral(light, receiver, [&](const Direction& d) {
-          const double w = 1 - weight_bsdf(d);
+          const double w = weight_light(d);
           return w * w * h(d) * h(d) / p_light(d);
         });
         bsdf1 += light_integral(light, receiver, [&](const Direction& d) { return weight_bsdf(d) * h(d); });
-        light1 += light_integral(light, receiver, [&](const Direction& d) { return (1 - weight_bsdf(d)) * h(d); });
+        light1 += light_integral(light, receiver, [&](const Direction& d) { return weight_light(d) * h(d); });
         break;
       }
       case Strategy::kMisOneSample:
