@@ -88,6 +88,8 @@ double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
   const double na = dot(n, axis), ns = dot(n, frame.s), nt = dot(n, frame.t);
   const double ra = dot(r, axis), rs = dot(r, frame.s), rt = dot(r, frame.t);
   const double psi_mirror = std::atan2(rt, rs);
+  const double gamma_mirror = std::atan2(length(cross(r, axis)), ra);
+  const double width = receiver.R::lobe_width();
   auto outer = [&](double u) {
     const Ring ring = cap.at(u);
     double sum = 0;
@@ -116,23 +118,28 @@ double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
         }
         return value;
       };
-      // Cut the arc at the lobe's peak azimuth.
+      // Cut the arc at the lobe's peak azimuth, and for a narrow lobe at
+      // azimuths graded by 2 from it, from the ring's distance to r (≥ w).
       double peak = psi_mirror;
       while (peak < lo) peak += 2 * kPi;
       while (peak >= lo + 2 * kPi) peak -= 2 * kPi;
-      if (peak > lo && peak < hi) sum += arc_integral(lo, peak) + arc_integral(peak, hi);
-      else sum += arc_integral(lo, hi);
+      std::vector<double> at{lo, hi, peak};
+      const double gap = std::max(width, std::fabs(std::atan2(ring.sin_gamma, ring.cos_gamma) - gamma_mirror));
+      for (double d = gap / ring.sin_gamma; width > 0 && d < kPi; d *= 2)
+        for (double x : {peak - d, peak + d, peak - 2 * kPi + d, peak + 2 * kPi - d}) at.push_back(x);
+      std::sort(at.begin(), at.end());
+      for (size_t i = 0; i + 1 < at.size(); ++i)
+        if (at[i] >= lo && at[i + 1] <= hi && at[i + 1] > at[i]) sum += arc_integral(at[i], at[i + 1]);
     }
     return sum;
   };
   // Cuts: where the horizon starts to cut the rings (γ = |π/2 − β|, β the
   // axis' angle from n) and the ring through the mirror direction.
   const double beta = std::atan2(length(cross(n, axis)), na);
-  const double gamma_mirror = std::atan2(length(cross(r, axis)), ra);
   std::vector<double> cuts{0.0, cap.u_max(), cap.u_of_gamma(std::fabs(kPi / 2 - beta)), cap.u_of_gamma(gamma_mirror)};
   // A lobe of width w ≪ the cap (R::lobe_width()): rings graded by 2 from the
   // mirror ring, so that no piece's first estimate spans the peak and its tail.
-  for (double d = receiver.R::lobe_width(); d > 0 && d < kPi; d *= 2)
+  for (double d = width; d > 0 && d < kPi; d *= 2)
     for (double gamma : {gamma_mirror - d, gamma_mirror + d})
       if (gamma > 0) cuts.push_back(cap.u_of_gamma(gamma));
   std::sort(cuts.begin(), cuts.end());

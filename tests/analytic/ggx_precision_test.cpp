@@ -460,6 +460,7 @@ void sweep(const char* what, const std::vector<Case>& cases, bool one_dimensiona
     const Values reference = one_dimensional ? reference_1d(k, Defect::kNone) : reference_2d(k, Defect::kNone);
     std::printf("  %s: reference %.3g s\n", k.name.c_str(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    std::fflush(stdout);  // progress of a slow sweep, also when piped
     check_case(k, reference, worst);
   }
   print(what, worst);
