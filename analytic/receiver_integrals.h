@@ -84,7 +84,11 @@ template <class R, class Cap, class G>
 double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
   const Vec3& n = receiver.n;
   const Vec3 r = receiver.mirror();
-  const Frame frame = Frame::from_normal(axis);
+  // Azimuths ψ from r's (ψ_mirror = 0 unless r is the axis): the nodes near a
+  // lobe's peak are then small angles, rounded to ε·|ψ|, not to ε·2π.
+  Frame frame = Frame::from_normal(axis);
+  const Vec3 r_across = receiver.mirror() - axis * dot(receiver.mirror(), axis);
+  if (length(r_across) > 0) frame.s = normalize(r_across), frame.t = cross(axis, frame.s);
   const double na = dot(n, axis), ns = dot(n, frame.s), nt = dot(n, frame.t);
   const double ra = dot(r, axis), rs = dot(r, frame.s), rt = dot(r, frame.t);
   const double psi_mirror = std::atan2(rt, rs);
@@ -94,6 +98,7 @@ double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
     const Ring ring = cap.at(u);
     double sum = 0;
     for (auto [lo, hi] : positive_arcs(ring.cos_gamma * na, ring.sin_gamma * ns, ring.sin_gamma * nt)) {
+      if (hi - lo >= 2 * kPi) lo = psi_mirror - kPi, hi = psi_mirror + kPi;  // a whole ring: about the peak
       // ψ over [a, b] by the half-angle variable of each of its pieces (HalfAngleArcs: no sin or cos at the nodes).
       auto arc_integral = [&](double a, double b) {
         const HalfAngleArcs arcs = HalfAngleArcs::of(a, b);
