@@ -84,11 +84,13 @@ template <class R, class Cap, class G>
 double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
   const Vec3& n = receiver.n;
   const Vec3 r = receiver.mirror();
-  // Azimuths ψ from r's (ψ_mirror = 0 unless r is the axis): the nodes near a
-  // lobe's peak are then small angles, rounded to ε·|ψ|, not to ε·2π.
+  // Azimuths ψ from r's (ψ_mirror = 0 unless r is within kAxialMirror of the
+  // axis, where its azimuth is round-off): the nodes near a lobe's peak are
+  // then small angles, rounded to ε·|ψ|, not to ε·2π.
+  constexpr double kAxialMirror = 1e-6;
   Frame frame = Frame::from_normal(axis);
   const Vec3 r_across = receiver.mirror() - axis * dot(receiver.mirror(), axis);
-  if (length(r_across) > 0) frame.s = normalize(r_across), frame.t = cross(axis, frame.s);
+  if (length(r_across) > kAxialMirror) frame.s = normalize(r_across), frame.t = cross(axis, frame.s);
   const double na = dot(n, axis), ns = dot(n, frame.s), nt = dot(n, frame.t);
   const double ra = dot(r, axis), rs = dot(r, frame.s), rt = dot(r, frame.t);
   const double psi_mirror = std::atan2(rt, rs);
