@@ -28,7 +28,12 @@
 // Tolerance: the requirement, 1e-13 relative (kPrecisionTarget).
 // Each class prints its worst relative error and the time of the values
 // under test. Classes with 2-D references are the suite GgxPrecisionSlow
-// (label slow); the 1-D ones run by default. Negative controls: references
+// (label slow: 10.5 min on a shared core, nearly all of it the 50-digit
+// references, 8–110 s each); the 1-D ones run by default (~1 s).
+// Measured (worst over the radiance and the eight strategies): normal-view
+// sky 3.7e-16, sphere on the normal 4.8e-16, α = 1 sky oblique/grazing
+// 5.3e-16, oblique/grazing sky at α 0.05/0.3 1.3e-14, oblique sky at α = 1e-3
+// 4.8e-14, sphere near the specular direction (α 1e-3…1) 5.2e-14. Negative controls: references
 // with a defect (D without 1/π, the other Smith form, p_b without G1(ωo))
 // must be missed by far.
 #include <algorithm>
