@@ -64,7 +64,9 @@ using Big = boost::multiprecision::cpp_bin_float_50;
 // The requirement on every reference value (radiance and E[Y²]).
 constexpr double kPrecisionTarget = 1e-13;
 // The 50-digit quadratures' relative tolerance per nested integral: far
-// below the target (Gauss–Kronrod's error estimate is pessimistic besides).
+// below the target (Gauss–Kronrod's error estimate is pessimistic: at 1e-16,
+// 1e-18 and 1e-19 with other cuts the values agreed to 20 digits, sky at
+// μo 0.5 with α 0.3 and 1e-3).
 constexpr double kReferenceTolerance = 1e-16;
 // A defective reference must be missed by more than this (a control that
 // passes within a few times the target would prove nothing).
