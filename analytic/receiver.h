@@ -125,6 +125,9 @@ class ReceiverModel : public Receiver {
   BsdfValue at_direction(double cos_theta, double cos_alpha, double /*one_minus_cos_alpha*/) const {
     return static_cast<const R&>(*this).R::at(cos_theta, cos_alpha);
   }
+  // The angular width (rad) of a lobe about r that the cap quadrature should
+  // resolve by graded cuts; 0 (the default) for none.
+  double lobe_width() const { return 0; }
   double light_reflectance(const ReceiverLight& light) const final;
   double second_moment(Strategy strategy, const std::vector<ReceiverLight>& lights) const final;
 };

@@ -84,14 +84,23 @@ template <class R, class Cap, class G>
 double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
   const Vec3& n = receiver.n;
   const Vec3 r = receiver.mirror();
-  const Frame frame = Frame::from_normal(axis);
+  // Azimuths ψ from r's (ψ_mirror = 0 unless r is within kAxialMirror of the
+  // axis, where its azimuth is round-off): the nodes near a lobe's peak are
+  // then small angles, rounded to ε·|ψ|, not to ε·2π.
+  constexpr double kAxialMirror = 1e-6;
+  Frame frame = Frame::from_normal(axis);
+  const Vec3 r_across = receiver.mirror() - axis * dot(receiver.mirror(), axis);
+  if (length(r_across) > kAxialMirror) frame.s = normalize(r_across), frame.t = cross(axis, frame.s);
   const double na = dot(n, axis), ns = dot(n, frame.s), nt = dot(n, frame.t);
   const double ra = dot(r, axis), rs = dot(r, frame.s), rt = dot(r, frame.t);
   const double psi_mirror = std::atan2(rt, rs);
+  const double gamma_mirror = std::atan2(length(cross(r, axis)), ra);
+  const double width = receiver.R::lobe_width();
   auto outer = [&](double u) {
     const Ring ring = cap.at(u);
     double sum = 0;
     for (auto [lo, hi] : positive_arcs(ring.cos_gamma * na, ring.sin_gamma * ns, ring.sin_gamma * nt)) {
+      if (hi - lo >= 2 * kPi) lo = psi_mirror - kPi, hi = psi_mirror + kPi;  // a whole ring: about the peak
       // ψ over [a, b] by the half-angle variable of each of its pieces (HalfAngleArcs: no sin or cos at the nodes).
       auto arc_integral = [&](double a, double b) {
         const HalfAngleArcs arcs = HalfAngleArcs::of(a, b);
@@ -116,20 +125,30 @@ double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
         }
         return value;
       };
-      // Cut the arc at the lobe's peak azimuth.
+      // Cut the arc at the lobe's peak azimuth, and for a narrow lobe at
+      // azimuths graded by 2 from it, from the ring's distance to r (≥ w).
       double peak = psi_mirror;
       while (peak < lo) peak += 2 * kPi;
       while (peak >= lo + 2 * kPi) peak -= 2 * kPi;
-      if (peak > lo && peak < hi) sum += arc_integral(lo, peak) + arc_integral(peak, hi);
-      else sum += arc_integral(lo, hi);
+      std::vector<double> at{lo, hi, peak};
+      const double gap = std::max(width, std::fabs(std::atan2(ring.sin_gamma, ring.cos_gamma) - gamma_mirror));
+      for (double d = gap / ring.sin_gamma; width > 0 && d < kPi; d *= 2)
+        for (double x : {peak - d, peak + d, peak - 2 * kPi + d, peak + 2 * kPi - d}) at.push_back(x);
+      std::sort(at.begin(), at.end());
+      for (size_t i = 0; i + 1 < at.size(); ++i)
+        if (at[i] >= lo && at[i + 1] <= hi && at[i + 1] > at[i]) sum += arc_integral(at[i], at[i + 1]);
     }
     return sum;
   };
   // Cuts: where the horizon starts to cut the rings (γ = |π/2 − β|, β the
   // axis' angle from n) and the ring through the mirror direction.
   const double beta = std::atan2(length(cross(n, axis)), na);
-  std::vector<double> cuts{0.0, cap.u_max(), cap.u_of_gamma(std::fabs(kPi / 2 - beta)),
-                           cap.u_of_gamma(std::atan2(length(cross(r, axis)), ra))};
+  std::vector<double> cuts{0.0, cap.u_max(), cap.u_of_gamma(std::fabs(kPi / 2 - beta)), cap.u_of_gamma(gamma_mirror)};
+  // A lobe of width w ≪ the cap (R::lobe_width()): rings graded by 2 from the
+  // mirror ring, so that no piece's first estimate spans the peak and its tail.
+  for (double d = width; d > 0 && d < kPi; d *= 2)
+    for (double gamma : {gamma_mirror - d, gamma_mirror + d})
+      if (gamma > 0) cuts.push_back(cap.u_of_gamma(gamma));
   std::sort(cuts.begin(), cuts.end());
   double total = 0;
   for (size_t i = 0; i + 1 < cuts.size(); ++i) {
@@ -192,6 +211,12 @@ double second_moment_of(Strategy strategy, const R& receiver, const std::vector<
       if (!(pb > 0)) return 0.0;
       return beta == 2 ? pb * pb / (pb * pb + pl * pl) : pb / (pb + pl);
     };
+    // 1 − w_b as its own quotient: where w_b ≈ 1 (a lobe's peak) 1 − w_b would keep only ε/(1 − w_b) of it.
+    auto weight_light = [&](const Direction& d) {
+      const double pb = d.bsdf.pdf_solid_angle, pl = p_light(d);
+      if (!(pb > 0)) return 1.0;
+      return beta == 2 ? pl * pl / (pb * pb + pl * pl) : pl / (pb + pl);
+    };
     switch (strategy) {
       case Strategy::kUniformHemisphere:
         moment += light_integral(light, receiver, [&](const Direction& d) { return 2 * kPi * h(d) * h(d); });
@@ -213,11 +238,11 @@ double second_moment_of(Strategy strategy, const R& receiver, const std::vector<
           return w * w * h2_over_bsdf(d);
         });
         light2 += light_integral(light, receiver, [&](const Direction& d) {
-          const double w = 1 - weight_bsdf(d);
+          const double w = weight_light(d);
           return w * w * h(d) * h(d) / p_light(d);
         });
         bsdf1 += light_integral(light, receiver, [&](const Direction& d) { return weight_bsdf(d) * h(d); });
-        light1 += light_integral(light, receiver, [&](const Direction& d) { return (1 - weight_bsdf(d)) * h(d); });
+        light1 += light_integral(light, receiver, [&](const Direction& d) { return weight_light(d) * h(d); });
         break;
       }
       case Strategy::kMisOneSample:
