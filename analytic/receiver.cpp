@@ -81,7 +81,12 @@ std::vector<ReceiverLight> receiver_lights(const Scene& scene, const Vec3& p, co
     const double pmf_i = pmf[index++];
     if (i == receiver) continue;
     const auto* sphere = std::get_if<Sphere>(&object.shape);
-    if (!sphere) unsupported_configuration(scene, "the emitter '" + object.name + "' (only sphere lights) over " + who);
+    if (!sphere) {
+      // A disk, rectangle or triangle: its visible region, or nothing when none of it reaches p.
+      std::optional<PlanarEmitter> planar = planar_emitter(scene, i, p, n, receiver, who);
+      if (planar) lights.push_back(ReceiverLight{false, {}, 0, object.emitted_radiance, pmf_i, std::move(planar)});
+      continue;
+    }
     if (!(length(sphere->center - p) > sphere->radius))
       unsupported_configuration(scene, "a receiving point (" + who + ") on or inside the sphere light '" + object.name + "'");
     for (size_t j = 0; j < scene.objects.size(); ++j)

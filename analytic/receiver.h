@@ -50,9 +50,12 @@
 // moments its square.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "analytic/receiver_planar.h"
 #include "core/scene.h"
 #include "core/strategy.h"
 
@@ -72,13 +75,21 @@ struct BsdfValue {
 };
 
 // One light as the receiver integrals see it: a sphere (centre relative to
-// the receiving point, which lies outside it), or the constant environment.
+// the receiving point, which lies outside it), the constant environment, or,
+// when `planar` is set, a disk, rectangle or triangle light (its visible
+// region and sampling constants, receiver_planar.h; center and radius unused).
 struct ReceiverLight {
+  ReceiverLight() = default;
+  ReceiverLight(bool environment, const Vec3& center, double radius, double radiance, double pmf,
+                std::optional<PlanarEmitter> planar = std::nullopt)
+      : environment(environment), center(center), radius(radius), radiance(radiance), pmf(pmf),
+        planar(std::move(planar)) {}
   bool environment = false;
   Vec3 center;
   double radius = 0;
   double radiance = 0;
   double pmf = 1;  // selection probability (light-sampling strategies)
+  std::optional<PlanarEmitter> planar;
 };
 
 // A receiving point's frame and BSDF for one view direction: what a BSDF
