@@ -47,9 +47,15 @@ using receiver_testing::LambertianReceiver;
 constexpr double kMomentTolerance = 1e-8;
 // What the negative controls get wrong: a factor far outside the tolerance.
 constexpr double kWrongFactor = 1.1;
-// The brute force's nested tolerance and depth: two orders below the model's.
-constexpr double kBruteTolerance = 1e-11;
-constexpr int kBruteDepth = 30;
+// The brute force's tolerances: the outer one a tenth of the model's, the
+// inner one 100 times tighter still, so that the inner results' own error
+// is no noise the outer quadrature has to chase; each integral's bisections
+// capped (kBruteBisections), which bounds the cost where round-off is
+// reached first.
+constexpr double kBruteOuterTolerance = 1e-10;
+constexpr double kBruteInnerTolerance = 1e-12;
+constexpr int kBruteDepth = 24;
+constexpr size_t kBruteBisections = 600;
 
 constexpr double kAlbedo = 0.6;
 const Vec3 kUp{0, 0, 1};
@@ -174,6 +180,462 @@ TEST(ReceiverPlanar, OccludedDiskMatchesTheClosedForms) {
   std::printf("occluded disk, Lambertian receiver model vs closed forms: worst radiance %.3g, worst overall %.3g\n",
               worst_radiance, worst);
   EXPECT_LT(worst, kMomentTolerance);
+}
+
+// ---------------------------------------------------------------------------
+// The brute force: every estimator's integrand over the light's own
+// coordinates, written from the definitions (receiver.h's file comment).
+
+enum Term {
+  kRadiance, kUniform, kCosine, kBsdfTerm, kArea, kSolidAngle, kOneSample,
+  kBalanceB2, kBalanceL2, kBalanceB1, kBalanceL1, kPowerB2, kPowerL2, kPowerB1, kPowerL1, kTermCount
+};
+using Terms = std::array<double, kTermCount>;
+
+// One planar light as the brute force sees it (world space).
+struct BruteLight {
+  const Object* object = nullptr;
+  Vec3 front;  // unit normal on p's side
+  double pmf = 1;
+  double omega = 0;  // Ω sampled uniformly by light_solid_angle, 0: by area
+  std::optional<Circle2> shadow;  // the occluder's central projection, in the disk's (e1, e2) coordinates about its centre
+};
+
+// The integrand terms at light point x (world), times dω/dA = cos θ'/d².
+Terms terms_at(const Receiver& receiver, const BruteLight& light, const Vec3& p, const Vec3& x) {
+  Terms t{};
+  const Vec3 v = x - p;
+  const double d2 = length_squared(v), d = std::sqrt(d2);
+  const Vec3 w = v / d;
+  const double cos_theta = dot(receiver.n, w), cos_emission = -dot(light.front, w);
+  if (!(cos_theta > 0) || !(cos_emission > 0)) return t;
+  const BsdfValue b = receiver.at(cos_theta, dot(receiver.mirror(), w));
+  const double L = light.object->emitted_radiance, area = shape_area(light.object->shape);
+  const double h = b.f_cos * L, pb = b.pdf_solid_angle;
+  const double pa = light.pmf * d2 / (area * cos_emission);
+  const double ps = light.omega > 0 ? light.pmf / light.omega : pa;
+  const double c = kOneSampleBsdfProbability;
+  t[kRadiance] = h;
+  t[kUniform] = 2 * kPi * h * h;
+  t[kCosine] = kPi * h * h / cos_theta;
+  t[kBsdfTerm] = b.f_cos2_over_pdf * L * L;
+  t[kArea] = h * h / pa;
+  t[kSolidAngle] = h * h / ps;
+  t[kOneSample] = h * h / (c * pb + (1 - c) * ps);
+  for (int beta = 1; beta <= 2; ++beta) {
+    const double xb = beta == 2 ? pb * pb : pb, xl = beta == 2 ? ps * ps : ps;
+    const double wb = xb / (xb + xl), wl = xl / (xb + xl);
+    const int o = beta == 1 ? kBalanceB2 : kPowerB2;
+    t[o] = wb * wb * b.f_cos2_over_pdf * L * L;
+    t[o + 1] = wl * wl * h * h / ps;
+    t[o + 2] = wb * h;
+    t[o + 3] = wl * h;
+  }
+  for (double& value : t) value *= cos_emission / d2;
+  return t;
+}
+
+// Pieces of [lo, hi] between sorted cuts inside it.
+std::vector<double> with_cuts(double lo, double hi, std::vector<double> cuts) {
+  std::vector<double> out{lo, hi};
+  for (double c : cuts)
+    if (c > lo && c < hi) out.push_back(c);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+template <class F>
+Terms integrate_pieces(const F& f, const std::vector<double>& edges, double tolerance) {
+  Terms sum{};
+  for (size_t i = 0; i + 1 < edges.size(); ++i) {
+    if (!(edges[i + 1] > edges[i])) continue;
+    const Terms v = adaptive_gauss_kronrod_relative_components(f, edges[i], edges[i + 1], tolerance, kBruteDepth, 1,
+                                                               kBruteBisections);
+    for (int k = 0; k < kTermCount; ++k) sum[k] += v[k];
+  }
+  return sum;
+}
+
+// Where the receiver's mirror direction meets the light's plane (or the centre
+// of the light when it does not).
+Vec3 mirror_hit(const Receiver& receiver, const Vec3& p, const Vec3& on_plane, const Vec3& front) {
+  const Vec3 r = receiver.mirror();
+  const double toward = -dot(r, front);
+  if (!(toward > 0)) return on_plane;
+  return p + r * (dot(p - on_plane, front) / toward);
+}
+
+// Terms over a disk light: polar (ρ, φ) about its centre, the horizon and the
+// shadow circle cut exactly on every ring, cuts at the mirror hit's ring and azimuth.
+Terms disk_terms(const Receiver& receiver, const BruteLight& light, const Disk& disk, const Vec3& p, Terms (*at)(const Receiver&, const BruteLight&, const Vec3&, const Vec3&)) {
+  const Frame f = Frame::from_normal(disk.normal);
+  const double A = dot(receiver.n, disk.center - p), B = dot(receiver.n, f.s), C = dot(receiver.n, f.t);
+  const double M = std::hypot(B, C), phi_n = std::atan2(C, B);
+  const Vec3 hit = mirror_hit(receiver, p, disk.center, light.front) - disk.center;
+  const double hx = dot(hit, f.s), hy = dot(hit, f.t);
+  std::vector<double> rho_cuts{std::hypot(hx, hy)};
+  if (M > 0) rho_cuts.push_back(std::fabs(A) / M);
+  if (light.shadow) {
+    const double D = std::hypot(light.shadow->cx, light.shadow->cy);
+    rho_cuts.push_back(std::fabs(D - light.shadow->radius));
+    rho_cuts.push_back(D + light.shadow->radius);
+  }
+  auto ring = [&](double rho) {
+    auto lit = [&](double phi) {
+      const double x = rho * std::cos(phi), y = rho * std::sin(phi);
+      if (!(A + B * x + C * y > 0)) return false;
+      return !light.shadow || std::hypot(x - light.shadow->cx, y - light.shadow->cy) >= light.shadow->radius;
+    };
+    std::vector<double> cuts{std::atan2(hy, hx)};
+    if (rho * M > std::fabs(A)) {
+      const double half = std::acos(-A / (rho * M));
+      cuts.push_back(phi_n + half), cuts.push_back(phi_n - half);
+    }
+    if (light.shadow && rho > 0) {
+      const double D = std::hypot(light.shadow->cx, light.shadow->cy), rs = light.shadow->radius;
+      const double k = (rho * rho + D * D - rs * rs) / (2 * rho * D);
+      if (std::fabs(k) < 1) {
+        const double centre = std::atan2(light.shadow->cy, light.shadow->cx), half = std::acos(k);
+        cuts.push_back(centre + half), cuts.push_back(centre - half);
+      }
+    }
+    for (double& c : cuts) c -= 2 * kPi * std::floor(c / (2 * kPi));
+    std::vector<double> edges = with_cuts(0, 2 * kPi, cuts);
+    auto g = [&](double phi) {
+      const Vec3 x = disk.center + f.s * (rho * std::cos(phi)) + f.t * (rho * std::sin(phi));
+      Terms t = at(receiver, light, p, x);
+      for (double& value : t) value *= rho;
+      return t;
+    };
+    Terms sum{};
+    for (size_t i = 0; i + 1 < edges.size(); ++i) {
+      if (!lit(0.5 * (edges[i] + edges[i + 1]))) continue;
+      const Terms v = integrate_pieces(g, {edges[i], edges[i + 1]}, kBruteInnerTolerance);
+      for (int k = 0; k < kTermCount; ++k) sum[k] += v[k];
+    }
+    return sum;
+  };
+  return integrate_pieces(ring, with_cuts(0, disk.radius, rho_cuts), kBruteOuterTolerance);
+}
+
+// Terms over a parallelogram (triangle: v ≤ 1 − u) x = o + u·e1 + v·e2, the
+// horizon cut exactly on every row, cuts at the mirror hit.
+Terms patch_terms(const Receiver& receiver, const BruteLight& light, const Vec3& o, const Vec3& e1, const Vec3& e2,
+                  bool triangle, const Vec3& p, Terms (*at)(const Receiver&, const BruteLight&, const Vec3&, const Vec3&)) {
+  const Vec3 m = cross(e1, e2);
+  const double jacobian = length(m);
+  const Vec3 hit = mirror_hit(receiver, p, o, light.front) - o;
+  const double uh = dot(hit, cross(e2, m)) / dot(e1, cross(e2, m)), vh = dot(hit, cross(m, e1)) / dot(e2, cross(m, e1));
+  const double a = dot(receiver.n, o - p), b = dot(receiver.n, e1), c = dot(receiver.n, e2);
+  auto v_max = [&](double u) { return triangle ? 1 - u : 1.0; };
+  std::vector<double> u_cuts{uh};
+  if (b != 0) u_cuts.push_back(-a / b);
+  if (triangle && b != c) u_cuts.push_back(-(a + c) / (b - c));
+  if (!triangle && b != 0) u_cuts.push_back(-(a + c) / b);
+  auto row = [&](double u) {
+    double lo = 0, hi = v_max(u);
+    // a + b·u + c·v > 0.
+    const double base = a + b * u;
+    if (c > 0) lo = std::fmax(lo, -base / c);
+    else if (c < 0) hi = std::fmin(hi, -base / c);
+    else if (!(base > 0)) hi = lo;
+    if (!(hi > lo)) return Terms{};
+    auto g = [&](double v) {
+      Terms t = at(receiver, light, p, o + e1 * u + e2 * v);
+      for (double& value : t) value *= jacobian;
+      return t;
+    };
+    return integrate_pieces(g, with_cuts(lo, hi, {vh}), kBruteInnerTolerance);
+  };
+  return integrate_pieces(row, with_cuts(0, 1, u_cuts), kBruteOuterTolerance);
+}
+
+Terms shape_terms(const Receiver& receiver, const BruteLight& light, const Vec3& p,
+                  Terms (*at)(const Receiver&, const BruteLight&, const Vec3&, const Vec3&)) {
+  return std::visit(
+      overloaded{[&](const Disk& d) { return disk_terms(receiver, light, d, p, at); },
+                 [&](const Rectangle& r) { return patch_terms(receiver, light, r.corner, r.edge_u, r.edge_v, false, p, at); },
+                 [&](const Triangle& t) { return patch_terms(receiver, light, t.p0, t.p1 - t.p0, t.p2 - t.p0, true, p, at); },
+                 [&](const Sphere&) -> Terms { throw Error("the brute force takes planar lights only"); }},
+      light.object->shape);
+}
+
+// Ω = ∫ cos θ'/d² dA over the whole light (no horizon): a "receiver" that is
+// the light's own front seen from p, through terms_at's radiance slot.
+Terms solid_angle_at(const Receiver&, const BruteLight& light, const Vec3& p, const Vec3& x) {
+  Terms t{};
+  const Vec3 v = x - p;
+  const double d2 = length_squared(v);
+  t[kRadiance] = std::fmax(-dot(light.front, v) / std::sqrt(d2), 0.0) / d2;
+  return t;
+}
+
+// The moments of every direct strategy and the radiance, by brute force, for
+// the scene's planar lights at p (object 0 the receiver; a parallel disk
+// occluder, if any, cast as a shadow circle on a disk light).
+struct BruteResult {
+  double radiance = 0;
+  std::vector<std::pair<Strategy, double>> moments;
+};
+BruteResult brute_force(const Scene& scene, const Vec3& p, const Receiver& receiver, LightSelection selection) {
+  const std::vector<double> pmf = light_selection_pmf(scene, selection);
+  Terms sum{};
+  size_t index = 0;
+  for (size_t i = 1; i < scene.objects.size(); ++i) {
+    const Object& object = scene.objects[i];
+    if (!object.is_emitter()) continue;
+    BruteLight light;
+    light.object = &object;
+    light.pmf = pmf[index++];
+    const Plane plane = *plane_of(object.shape);
+    light.front = normalize(plane.normal);
+    if (dot(p - plane.point, light.front) < 0) {
+      if (!object.two_sided) continue;
+      light.front = -light.front;
+    }
+    // A parallel disk occluder: its central projection from p onto the light's plane.
+    for (const Object& other : scene.objects) {
+      const auto* o = std::get_if<Disk>(&other.shape);
+      const auto* d = std::get_if<Disk>(&object.shape);
+      if (&other == &object || other.is_emitter() || !o || !d) continue;
+      const double h = dot(p - d->center, light.front), h_o = dot(p - o->center, light.front);
+      const Vec3 image = p + (o->center - p) * (h / h_o) - d->center;
+      const Frame f = Frame::from_normal(d->normal);
+      light.shadow = Circle2{dot(image, f.s), dot(image, f.t), o->radius * h / h_o};
+    }
+    const bool spherical_map = std::visit(
+        overloaded{[](const Rectangle& r) { return std::fabs(dot(r.edge_u, r.edge_v)) <= 1e-12 * length(r.edge_u) * length(r.edge_v); },
+                   [](const Triangle&) { return true; }, [](const Disk&) { return false; },
+                   [](const Sphere&) { return false; }},
+        object.shape);
+    if (spherical_map) {
+      // The whole light, unclipped and unoccluded: a normal facing it has all of it above the horizon.
+      const PhongReceiver everywhere(-light.front, -light.front, 0, 0);
+      BruteLight whole = light;
+      whole.shadow.reset();
+      const double omega = shape_terms(everywhere, whole, p, solid_angle_at)[kRadiance];
+      if (omega >= kMinSampledSolidAngle) light.omega = omega;
+    }
+    const Terms t = shape_terms(receiver, light, p, terms_at);
+    for (int k = 0; k < kTermCount; ++k) sum[k] += t[k];
+  }
+  BruteResult out;
+  out.radiance = sum[kRadiance];
+  for (Strategy s : direct_strategies()) {
+    double m = 0;
+    switch (s) {
+      case Strategy::kUniformHemisphere: m = sum[kUniform]; break;
+      case Strategy::kCosineHemisphere: m = sum[kCosine]; break;
+      case Strategy::kBsdf: m = sum[kBsdfTerm]; break;
+      case Strategy::kLightArea: m = sum[kArea]; break;
+      case Strategy::kLightSolidAngle: m = sum[kSolidAngle]; break;
+      case Strategy::kMisOneSample: m = sum[kOneSample]; break;
+      case Strategy::kMisBalance: m = sum[kBalanceB2] + sum[kBalanceL2] + 2 * sum[kBalanceB1] * sum[kBalanceL1]; break;
+      case Strategy::kMisPower: m = sum[kPowerB2] + sum[kPowerL2] + 2 * sum[kPowerB1] * sum[kPowerL1]; break;
+      case Strategy::kPathNaive:
+      case Strategy::kPathMis: continue;
+    }
+    out.moments.emplace_back(s, m);
+  }
+  return out;
+}
+
+// Worst relative error of the model against the brute force over radiance and every direct strategy.
+double worst_against_brute_force(const Scene& scene, const Vec3& p, const Receiver& receiver, LightSelection selection,
+                                 const char* label) {
+  const auto lights = receiver_lights(scene, p, receiver.n, 0, selection, receiver.name());
+  const BruteResult want = brute_force(scene, p, receiver, selection);
+  double worst = relative_error(reflected_radiance(receiver, lights), want.radiance);
+  const double radiance_error = worst;
+  for (const auto& [s, m] : want.moments) {
+    const double got = receiver_second_moment(s, receiver, lights), rel = relative_error(got, m);
+    if (!(rel < kMomentTolerance))
+      std::printf("  %s, %s: %.17g vs brute force %.17g\n", label, strategy_name(s).c_str(), got, m);
+    worst = std::max(worst, rel);
+  }
+  std::printf("  %-46s radiance %.2e, worst %.2e\n", label, radiance_error, worst);
+  return worst;
+}
+
+// A view whose mirror direction points at `target` from p (normal n).
+Vec3 view_toward(const Vec3& p, const Vec3& n, const Vec3& target) {
+  const Vec3 r = normalize(target - p);
+  return normalize(n * (2 * dot(n, r)) - r);
+}
+
+Vec3 light_centre(const Object& light) {
+  return std::visit(overloaded{[](const Disk& d) { return d.center; },
+                               [](const Rectangle& r) { return r.corner + (r.edge_u + r.edge_v) * 0.5; },
+                               [](const Triangle& t) { return (t.p0 + t.p1 + t.p2) / 3.0; },
+                               [](const Sphere& s) { return s.center; }},
+                    light.shape);
+}
+
+TEST(ReceiverPlanar, PhongMatchesTheBruteForce) {
+  double worst = 0;
+  for (const PlanarCase& c : planar_cases()) {
+    const Scene scene = scene_of(c);
+    // The lobe aimed at the (first) light's centre, then 50° off the normal.
+    for (const Vec3& wo : {view_toward(c.p, c.n, light_centre(c.lights[0])), normalize(c.n * 2 + kView)}) {
+      const PhongReceiver phong(c.n, wo, 0.8, 100);
+      worst = std::max(worst, worst_against_brute_force(scene, c.p, phong, c.selection, c.name.c_str()));
+    }
+  }
+  const Scene scene = disk_occluder();
+  for (const Vec3& p : occluded_disk_points()) {
+    const PhongReceiver phong(kUp, view_toward(p, kUp, Vec3{0.5, 0.3, 2}), 0.8, 100);
+    const std::string label = "occluded disk at (" + std::to_string(p.x) + ", " + std::to_string(p.y) + ")";
+    worst = std::max(worst, worst_against_brute_force(scene, p, phong, LightSelection::kUniform, label.c_str()));
+  }
+  std::printf("Phong e = 100 on the receiver model vs brute force: worst relative error %.3g\n", worst);
+  EXPECT_LT(worst, kMomentTolerance);
+}
+
+TEST(ReceiverPlanar, OccludedDiskMisAgainstTheBruteForce) {
+  // moments.h solves MIS for unoccluded emitters only: the Lambertian
+  // receiver's MIS moments behind the occluder against the brute force.
+  const Scene scene = disk_occluder();
+  double worst = 0;
+  for (const Vec3& p : occluded_disk_points()) {
+    const LambertianReceiver receiver(kUp, kView, kAlbedo);
+    const std::string label = "Lambertian, occluded disk at (" + std::to_string(p.x) + ", " + std::to_string(p.y) + ")";
+    worst = std::max(worst, worst_against_brute_force(scene, p, receiver, LightSelection::kUniform, label.c_str()));
+  }
+  EXPECT_LT(worst, kMomentTolerance);
+}
+
+TEST(ReceiverPlanar, PhongOfExponentZeroAtNormalViewIsLambertian) {
+  // At ωo = n the mirror is n, so e = 0 is f = ρ/π over the whole hemisphere
+  // with p_b = 1/(2π): the radiance and the light and hemisphere strategies
+  // are Lambertian's, and Phong's bsdf sampling is uniform_hemisphere.
+  const double k = kAlbedo / kPi;
+  double worst = 0;
+  auto check = [&](const Scene& scene, const Vec3& p, const Vec3& n, LightSelection selection) {
+    const PhongReceiver phong(n, n, kAlbedo, 0);
+    const auto lights = receiver_lights(scene, p, n, 0, selection, phong.name());
+    worst = std::max(worst, relative_error(reflected_radiance(phong, lights), k * irradiance(scene, p, n, 0)));
+    for (Strategy s : {Strategy::kUniformHemisphere, Strategy::kCosineHemisphere, Strategy::kLightArea,
+                       Strategy::kLightSolidAngle})
+      worst = std::max(worst, relative_error(receiver_second_moment(s, phong, lights),
+                                             k * k * second_moment(s, scene, p, n, 0, selection)));
+    worst = std::max(worst, relative_error(receiver_second_moment(Strategy::kBsdf, phong, lights),
+                                           k * k * second_moment(Strategy::kUniformHemisphere, scene, p, n, 0, selection)));
+  };
+  for (const PlanarCase& c : planar_cases()) check(scene_of(c), c.p, c.n, c.selection);
+  for (const Vec3& p : occluded_disk_points()) check(disk_occluder(), p, kUp, LightSelection::kUniform);
+  std::printf("Phong e = 0 at normal view vs Lambertian closed forms: worst relative error %.3g\n", worst);
+  EXPECT_LT(worst, kMomentTolerance);
+}
+
+// A point in the penumbra whose mirror direction meets the light's plane
+// `offset` outside the occluder's shadow circle (inside the lit ring), along
+// the line through the circle's centre.
+struct ShadowEdgeView {
+  Vec3 p, wo;
+};
+ShadowEdgeView shadow_edge_view(double offset) {
+  const Scene scene = disk_occluder();
+  const Vec3 p{0.45, 0.1, 0};
+  const auto& light = std::get<Disk>(scene.objects[1].shape);
+  const auto& occluder = std::get<Disk>(scene.objects[2].shape);
+  const double h = light.center.z - p.z, h_o = occluder.center.z - p.z;
+  const Vec3 image = p + (occluder.center - p) * (h / h_o);  // the shadow circle's centre on the light's plane
+  const Vec3 outward = normalize(Vec3{light.center.x - image.x, light.center.y - image.y, 0});
+  const Vec3 target = image + outward * (occluder.radius * h / h_o + offset);
+  return {p, view_toward(p, kUp, target)};
+}
+
+TEST(ReceiverPlanar, NarrowLobeAtTheShadowEdgeMatchesTheBruteForce) {
+  // Phong e = 10⁴ (lobe width ~ 1/√e = 0.01 rad, ~0.02 on the light's plane)
+  // with its peak 0.005 outside the shadow edge, and 0.005 inside it.
+  const Scene scene = disk_occluder();
+  double worst = 0;
+  for (double offset : {0.005, -0.005}) {
+    const ShadowEdgeView v = shadow_edge_view(offset);
+    const PhongReceiver phong(kUp, v.wo, 0.8, 1e4);
+    const std::string label = "e = 1e4, peak " + std::to_string(offset) + " from the shadow edge";
+    worst = std::max(worst, worst_against_brute_force(scene, v.p, phong, LightSelection::kUniform, label.c_str()));
+  }
+  EXPECT_LT(worst, kMomentTolerance);
+}
+
+TEST(ReceiverPlanar, NegativeControlsAreCaught) {
+  const std::vector<PlanarCase> cases = planar_cases();
+  // A BSDF density off by a constant.
+  double wrong_pdf = 0, radiance_error = 0;
+  for (const PlanarCase& c : cases) {
+    const LambertianReceiver wrong(c.n, normalize(c.n * 2 + kView), kAlbedo, kWrongFactor);
+    wrong_pdf = std::max(wrong_pdf, worst_against_lambertian(scene_of(c), c.p, c.n, c.selection, wrong,
+                                                             direct_strategies(), &radiance_error, false));
+  }
+  // The light density off by a constant: the emitter's area 1.1 times too large.
+  const Scene overhead = scene_of(cases[0]);
+  const LambertianReceiver right(kUp, kView, kAlbedo);
+  auto lights = receiver_lights(overhead, Vec3{}, kUp, 0, LightSelection::kUniform, right.name());
+  const double want_area = (kAlbedo / kPi) * (kAlbedo / kPi) * second_moment(Strategy::kLightArea, overhead, Vec3{}, kUp, 0);
+  lights[0].planar->area *= kWrongFactor;
+  const double wrong_area = relative_error(receiver_second_moment(Strategy::kLightArea, right, lights), want_area);
+  // The visible region without the occluder: the lights of the scene with the
+  // occluder removed, against the references of the scene with it.
+  const Scene scene = disk_occluder();
+  Scene unoccluded = scene;
+  unoccluded.objects.pop_back();
+  ASSERT_EQ(std::get_if<Disk>(&scene.objects.back().shape)->radius, 0.35);  // the occluder is the last object
+  double no_occluder = 0;
+  for (const Vec3& p : {occluded_disk_points()[0], occluded_disk_points()[1]}) {
+    const auto wrong_lights = receiver_lights(unoccluded, p, kUp, 0, LightSelection::kUniform, right.name());
+    const LambertianReceiver at_p(kUp, kView, kAlbedo);
+    no_occluder = std::max(no_occluder, relative_error(reflected_radiance(at_p, wrong_lights),
+                                                       kAlbedo / kPi * irradiance(scene, p, kUp, 0)));
+  }
+  std::printf("negative controls: density x%.2g worst %.3g, light area x%.2g %.3g, occluder forgotten %.3g\n",
+              kWrongFactor, wrong_pdf, kWrongFactor, wrong_area, no_occluder);
+  EXPECT_GT(wrong_pdf, kMomentTolerance);
+  EXPECT_GT(wrong_area, kMomentTolerance);
+  EXPECT_GT(no_occluder, kMomentTolerance);
+}
+
+TEST(ReceiverPlanar, RefusesOtherOccluders) {
+  // A tilted disk between the receiving point and the light: refused, naming it.
+  Scene scene = disk_occluder();
+  std::get<Disk>(scene.objects[2].shape).normal = normalize(Vec3{0.3, 0, 1});
+  const LambertianReceiver receiver(kUp, kView, kAlbedo);
+  try {
+    receiver_lights(scene, Vec3{}, kUp, 0, LightSelection::kUniform, receiver.name());
+    FAIL() << "a tilted occluder was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'occluder'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ReceiverPlanar, BackFacingLightsGiveExactZero) {
+  PlanarCase c{"one-sided rectangle from behind", {light("rect", Rectangle{{-0.3, -0.3, 1.2}, {0.7, 0, 0}, {0, 0.6, 0}}, 2)},
+               Vec3{}, kUp};
+  const LambertianReceiver receiver(kUp, kView, kAlbedo);
+  const auto lights = receiver_lights(scene_of(c), c.p, c.n, 0, LightSelection::kUniform, receiver.name());
+  EXPECT_TRUE(lights.empty());
+  EXPECT_EQ(reflected_radiance(receiver, lights), 0.0);
+}
+
+TEST(ReceiverPlanar, CostAtAnOccludedDiskPoint) {
+  // Wall-clock cost of one radiance and one multi-sample MIS moment at the
+  // penumbra point (reported, not asserted: the machine is shared).
+  const Scene scene = disk_occluder();
+  for (double exponent : {100.0, 1e4}) {
+    const ShadowEdgeView v = shadow_edge_view(0.005);
+    const PhongReceiver phong(kUp, v.wo, 0.8, exponent);
+    const auto start = std::chrono::steady_clock::now();
+    const auto lights = receiver_lights(scene, v.p, kUp, 0, LightSelection::kUniform, phong.name());
+    const double radiance = reflected_radiance(phong, lights);
+    const auto middle = std::chrono::steady_clock::now();
+    const double moment = receiver_second_moment(Strategy::kMisBalance, phong, lights);
+    const auto end = std::chrono::steady_clock::now();
+    std::printf("Phong e = %g at the shadow edge: radiance %.6g in %.2f ms (lights included), mis_balance E[Y^2] %.6g "
+                "in %.2f ms\n",
+                exponent, radiance, std::chrono::duration<double, std::milli>(middle - start).count(), moment,
+                std::chrono::duration<double, std::milli>(end - middle).count());
+    EXPECT_GT(radiance, 0);
+  }
 }
 
 }  // namespace
