@@ -89,11 +89,14 @@ std::vector<ReceiverLight> receiver_lights(const Scene& scene, const Vec3& p, co
     }
     if (!(length(sphere->center - p) > sphere->radius))
       unsupported_configuration(scene, "a receiving point (" + who + ") on or inside the sphere light '" + object.name + "'");
+    // Objects that may block the sphere: above the horizon and meeting the cone from p over it.
+    const BoundingSphere ball{sphere->center, sphere->radius};
     for (size_t j = 0; j < scene.objects.size(); ++j)
-      if (j != i && j != receiver && above_horizon(scene.objects[j], p, n))
+      if (j != i && j != receiver && above_horizon(scene.objects[j], p, n) &&
+          ball_may_meet_ball_cone(bounding_sphere(scene.objects[j].shape), p, ball))
         unsupported_configuration(scene, "the object '" + scene.objects[j].name +
-                                             "' above the horizon of " + who + " beside the sphere light '" +
-                                             object.name + "' (only unoccluded lights are solved)");
+                                             "' which may block the sphere light '" + object.name + "' seen from " +
+                                             who + " (only unoccluded sphere lights are solved)");
     lights.push_back(ReceiverLight{false, sphere->center - p, sphere->radius, object.emitted_radiance, pmf_i});
   }
   if (scene.environment.radiance > 0) {
