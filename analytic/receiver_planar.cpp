@@ -10,6 +10,7 @@
 #include "analytic/light_moments.h"
 #include "analytic/occlusion.h"
 #include "analytic/unsupported.h"
+#include "core/error.h"
 #include "core/strategy.h"
 
 namespace furnace::analytic {
@@ -176,12 +177,16 @@ PolarRegion::PolarRegion(const std::vector<Curve2>& boundary, const Point2& cent
 
 void PolarRegion::intervals(double cos_phi, double sin_phi, std::vector<std::pair<double, double>>& out) const {
   out.clear();
-  Crossing crossings[64];
+  // A ray crosses each segment once and each arc at most twice: room for
+  // the boundary of a light behind a few dozen occluders.
+  constexpr int kMaxCrossings = 128;
+  Crossing crossings[kMaxCrossings];
   int count = 0;
   auto add = [&](double rho, double tx, double ty) {
+    FURNACE_CHECK(count < kMaxCrossings);
     // Interior to the left of the boundary's direction (tx, ty): the ray
     // enters where it turns left of it.
-    if (count < 64) crossings[count++] = {rho, tx * sin_phi - ty * cos_phi > 0};
+    crossings[count++] = {rho, tx * sin_phi - ty * cos_phi > 0};
   };
   for (const Curve2& c : boundary_) {
     if (!c.is_arc) {
