@@ -19,20 +19,6 @@ namespace furnace::analytic {
 
 namespace {
 
-// Relative height (to the object's size and distance) below which an object
-// counts as lying in the receiver's tangent plane: a few hundred ulps.
-constexpr double kCoplanarTolerance = 1e-13;
-
-// Whether any part of the object rises above p's horizon. An object in p's
-// tangent plane (a coplanar neighbour, above the horizon by the round-off of
-// p) hides a solid angle of that order, far below the quadrature's
-// tolerance: it does not count.
-bool above_horizon(const Object& object, const Vec3& p, const Vec3& n) {
-  const BoundingSphere ball = bounding_sphere(object.shape);
-  const double round_off = kCoplanarTolerance * (ball.radius + length(ball.center - p));
-  return height_range(object.shape, p, n).hi > round_off;
-}
-
 struct MemoKey {
   int what;  // −1: the mean, else the Strategy
   int selection;

@@ -65,6 +65,12 @@ double reduce(double angle, double base) {
 
 }  // namespace
 
+bool above_horizon(const Object& object, const Vec3& p, const Vec3& n) {
+  const BoundingSphere ball = bounding_sphere(object.shape);
+  const double round_off = kCoplanarTolerance * (ball.radius + length(ball.center - p));
+  return height_range(object.shape, p, n).hi > round_off;
+}
+
 std::optional<PlanarEmitter> planar_emitter(const Scene& scene, size_t light_index, const Vec3& p, const Vec3& n,
                                             size_t receiver, const std::string& who) {
   const Object& light = scene.objects[light_index];
@@ -74,8 +80,8 @@ std::optional<PlanarEmitter> planar_emitter(const Scene& scene, size_t light_ind
   double h = dot(p - plane->point, front);
   if (h < 0 && light.two_sided) front = -front, h = -h;
   if (!(h > 0)) return std::nullopt;  // behind its emitting face, or in its plane
+  if (!above_horizon(light, p, n)) return std::nullopt;
   const ZRange over_horizon = height_range(light.shape, p, n);
-  if (!(over_horizon.hi > 0)) return std::nullopt;
 
   PlanarEmitter out;
   const Frame frame = Frame::from_normal(front);
@@ -99,7 +105,7 @@ std::optional<PlanarEmitter> planar_emitter(const Scene& scene, size_t light_ind
   for (size_t j = 0; j < scene.objects.size(); ++j) {
     if (j == light_index || j == receiver) continue;
     const Object& object = scene.objects[j];
-    if (!(height_range(object.shape, p, n).hi > 0)) continue;  // wholly below the horizon
+    if (!above_horizon(object, p, n)) continue;  // below the horizon, or in its plane
     const ZRange z = height_range(object.shape, p, w);
     if (z.hi <= 0 || z.lo >= h) continue;  // behind p's parallel plane or beyond the light's
     if (!ball_may_meet_ball_cone(bounding_sphere(object.shape), p, light_ball)) continue;

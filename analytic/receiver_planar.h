@@ -36,6 +36,16 @@
 
 namespace furnace::analytic {
 
+// Relative height (to the object's size and distance) below which an object
+// counts as lying in the receiver's tangent plane: a few hundred ulps.
+inline constexpr double kCoplanarTolerance = 1e-13;
+
+// Whether any part of the object rises above p's horizon (unit normal n).
+// An object in p's tangent plane (a coplanar neighbour, above the horizon by
+// the round-off of p) hides, or sends, a solid angle of that order, far
+// below the quadrature's tolerance: it does not count.
+bool above_horizon(const Object& object, const Vec3& p, const Vec3& n);
+
 // A planar light as the receiver integrals see it from one receiving point.
 struct PlanarEmitter {
   Vec3 s, t;                     // unit axes of the light's plane
@@ -53,8 +63,8 @@ struct PlanarEmitter {
 // The planar emitter `light` of `scene` (a Disk, Rectangle or Triangle) seen
 // from p (unit normal n) on object `receiver`. Empty when nothing of it
 // reaches p: p behind its emitting face or in its plane, the light below p's
-// horizon, or wholly hidden. Objects that provably cannot block it (below the
-// horizon, outside the slab between p and the light's plane, or with a
+// horizon (above_horizon), or wholly hidden. Objects that provably cannot
+// block it (not above_horizon, outside the slab between p and the light's plane, or with a
 // bounding ball missing the cone from p over the light's bounding ball) are
 // ignored; a disk parallel to the light strictly inside the slab is an
 // occluder. Throws furnace::Error naming the scene and the object for any
