@@ -21,6 +21,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <optional>
 #include <string>
@@ -626,6 +627,61 @@ TEST(ReceiverPlanar, DISABLED_GgxWidthLobesAtTheShadowEdge) {
                   std::chrono::duration<double, std::milli>(end - middle).count(), mis,
                   std::chrono::duration<double, std::milli>(brute_end - end).count());
     }
+}
+
+TEST(ReceiverPlanar, SceneFilesMatchTheLambertianReferencesWhereSolved) {
+  // Every scene file, at the hit points of a 5×5 grid of pixel centres on a
+  // Lambertian surface: where the receiver model solves the lights, the
+  // Lambertian receiver on it must give the Lambertian reference's radiance
+  // and every strategy's E[Y²] the Lambertian moments solve.
+  double worst = 0;
+  size_t solved = 0, refused = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(FURNACE_SCENE_DIR)) {
+    if (entry.path().extension() != ".json") continue;
+    const Scene scene = load_scene(entry.path());
+    size_t scene_solved = 0, scene_refused = 0;
+    for (int j = 0; j < 5; ++j)
+      for (int i = 0; i < 5; ++i) {
+        const int px = (2 * i + 1) * scene.camera.width_px / 10, py = (2 * j + 1) * scene.camera.height_px / 10;
+        const Camera::Ray ray = scene.camera.pixel_center_ray(px, py);
+        const std::optional<Hit> hit = intersect(scene, ray.origin, ray.direction);
+        if (!hit) continue;
+        const Object& object = scene.objects[hit->object_index];
+        if (object.material.type != BsdfType::kLambertian || object.material.albedo == 0) continue;
+        const Vec3 n = dot(ray.direction, hit->normal) < 0 ? hit->normal : -hit->normal;
+        const LambertianReceiver receiver(n, -ray.direction, kAlbedo);
+        std::vector<ReceiverLight> lights;
+        try {
+          lights = receiver_lights(scene, hit->point, n, hit->object_index, LightSelection::kUniform, receiver.name());
+        } catch (const Error&) {
+          ++scene_refused;
+          continue;
+        }
+        ++scene_solved;
+        const double k = kAlbedo / kPi;
+        worst = std::max(worst, relative_error(reflected_radiance(receiver, lights),
+                                               k * irradiance(scene, hit->point, n, hit->object_index)));
+        for (Strategy s : direct_strategies()) {
+          double want = 0;
+          try {
+            want = k * k * second_moment(s, scene, hit->point, n, hit->object_index);
+          } catch (const Error&) {
+            continue;  // the Lambertian moments do not solve it (MIS behind an occluder)
+          }
+          const double rel = relative_error(receiver_second_moment(s, receiver, lights), want);
+          if (!(rel < kMomentTolerance))
+            std::printf("  %s pixel (%d, %d), %s: relative error %.3g\n", scene.name.c_str(), px, py,
+                        strategy_name(s).c_str(), rel);
+          worst = std::max(worst, rel);
+        }
+      }
+    std::printf("  %-28s %2zu points solved, %2zu refused\n", scene.name.c_str(), scene_solved, scene_refused);
+    solved += scene_solved, refused += scene_refused;
+  }
+  std::printf("scene files: %zu Lambertian points solved, %zu refused; worst relative error %.3g\n", solved, refused,
+              worst);
+  EXPECT_GT(solved, 0u);
+  EXPECT_LT(worst, kMomentTolerance);
 }
 
 TEST(ReceiverPlanar, NegativeControlsAreCaught) {
