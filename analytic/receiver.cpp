@@ -19,20 +19,6 @@ namespace furnace::analytic {
 
 namespace {
 
-// Relative height (to the object's size and distance) below which an object
-// counts as lying in the receiver's tangent plane: a few hundred ulps.
-constexpr double kCoplanarTolerance = 1e-13;
-
-// Whether any part of the object rises above p's horizon. An object in p's
-// tangent plane (a coplanar neighbour, above the horizon by the round-off of
-// p) hides a solid angle of that order, far below the quadrature's
-// tolerance: it does not count.
-bool above_horizon(const Object& object, const Vec3& p, const Vec3& n) {
-  const BoundingSphere ball = bounding_sphere(object.shape);
-  const double round_off = kCoplanarTolerance * (ball.radius + length(ball.center - p));
-  return height_range(object.shape, p, n).hi > round_off;
-}
-
 struct MemoKey {
   int what;  // −1: the mean, else the Strategy
   int selection;
@@ -81,14 +67,22 @@ std::vector<ReceiverLight> receiver_lights(const Scene& scene, const Vec3& p, co
     const double pmf_i = pmf[index++];
     if (i == receiver) continue;
     const auto* sphere = std::get_if<Sphere>(&object.shape);
-    if (!sphere) unsupported_configuration(scene, "the emitter '" + object.name + "' (only sphere lights) over " + who);
+    if (!sphere) {
+      // A disk, rectangle or triangle: its visible region, or nothing when none of it reaches p.
+      std::optional<PlanarEmitter> planar = planar_emitter(scene, i, p, n, receiver, who);
+      if (planar) lights.push_back(ReceiverLight{false, {}, 0, object.emitted_radiance, pmf_i, std::move(planar)});
+      continue;
+    }
     if (!(length(sphere->center - p) > sphere->radius))
       unsupported_configuration(scene, "a receiving point (" + who + ") on or inside the sphere light '" + object.name + "'");
+    // Objects that may block the sphere: above the horizon and meeting the cone from p over it.
+    const BoundingSphere ball{sphere->center, sphere->radius};
     for (size_t j = 0; j < scene.objects.size(); ++j)
-      if (j != i && j != receiver && above_horizon(scene.objects[j], p, n))
+      if (j != i && j != receiver && above_horizon(scene.objects[j], p, n) &&
+          ball_may_meet_ball_cone(bounding_sphere(scene.objects[j].shape), p, ball))
         unsupported_configuration(scene, "the object '" + scene.objects[j].name +
-                                             "' above the horizon of " + who + " beside the sphere light '" +
-                                             object.name + "' (only unoccluded lights are solved)");
+                                             "' which may block the sphere light '" + object.name + "' seen from " +
+                                             who + " (only unoccluded sphere lights are solved)");
     lights.push_back(ReceiverLight{false, sphere->center - p, sphere->radius, object.emitted_radiance, pmf_i});
   }
   if (scene.environment.radiance > 0) {

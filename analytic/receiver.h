@@ -18,10 +18,15 @@
 //    failed sample, Y = 0, which the integral over n·ω > 0 accounts for);
 //  - uniform_hemisphere (p = 1/(2π)), cosine_hemisphere (p = (n·ω)/π): Y = h/p;
 //  - light_solid_angle: a light chosen with pmf P, a sphere's cone uniformly
-//    (p_l = P/Ω), the constant environment cosine-weighted (p_l = P·(n·ω)/π);
-//  - light_area: a sphere's surface uniformly, p_l = P·d²/(A cos θ') with d
-//    the distance to the near intersection, θ' the emission angle, A = 4πR²;
-//    the environment as for light_solid_angle;
+//    (p_l = P/Ω), a triangle's or a rectangle's whole spherical polygon
+//    uniformly where the renderer has that map (p_l = P/Ω, Ω unclipped and
+//    unoccluded; core/strategy.h's contract: Ω ≥ kMinSampledSolidAngle,
+//    rectangles with perpendicular edges), other planar lights (disks) by
+//    area as light_area, the constant environment cosine-weighted
+//    (p_l = P·(n·ω)/π);
+//  - light_area: a light's surface uniformly, p_l = P·d²/(A cos θ') with d
+//    the distance to the (near) point hit, θ' the emission angle, A the
+//    whole area; the environment as for light_solid_angle;
 //  - mis_balance, mis_power: one bsdf and one light_solid_angle sample,
 //    Veach's heuristic w_s = p_s^β/(p_b^β + p_l^β) (β = 1, 2):
 //      E[Y²] = E[Y_b²] + E[Y_l²] + 2 E[Y_b] E[Y_l],
@@ -43,16 +48,26 @@
 // (a lobe's peak). For a sphere the outer variable is v with
 // sin γ = (R/D)·sin v, so √(R² − D² sin²γ) = R cos v is smooth at the rim
 // (the light-area density's emission cosine).
+// A planar light (disk, rectangle, triangle; receiver_planar.h) is
+// integrated over its exact visible region in its own plane (the light, cut
+// by the horizon, minus the central projections of parallel disk
+// occluders), in polar coordinates about the mirror direction's hit point
+// on that plane, where a narrow lobe peaks (receiver_integrals.h,
+// plane_integral).
 //
-// Domain: receiver points outside every sphere light, unoccluded lights and
-// an unblocked constant environment (receiver_lights refuses the rest),
-// viewer above the receiver (n·ωo > 0). Units: radiance W·m⁻²·sr⁻¹, second
-// moments its square.
+// Domain: receiver points outside every sphere light; sphere lights that
+// nothing may block, planar lights past disks parallel to them (nothing
+// else that may block them), an unblocked constant environment
+// (receiver_lights refuses the rest); viewer above the receiver
+// (n·ωo > 0). Units: radiance W·m⁻²·sr⁻¹, second moments its square.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "analytic/receiver_planar.h"
 #include "core/scene.h"
 #include "core/strategy.h"
 
@@ -72,13 +87,21 @@ struct BsdfValue {
 };
 
 // One light as the receiver integrals see it: a sphere (centre relative to
-// the receiving point, which lies outside it), or the constant environment.
+// the receiving point, which lies outside it), the constant environment, or,
+// when `planar` is set, a disk, rectangle or triangle light (its visible
+// region and sampling constants, receiver_planar.h; center and radius unused).
 struct ReceiverLight {
+  ReceiverLight() = default;
+  ReceiverLight(bool environment, const Vec3& center, double radius, double radiance, double pmf,
+                std::optional<PlanarEmitter> planar = std::nullopt)
+      : environment(environment), center(center), radius(radius), radiance(radiance), pmf(pmf),
+        planar(std::move(planar)) {}
   bool environment = false;
   Vec3 center;
   double radius = 0;
   double radiance = 0;
   double pmf = 1;  // selection probability (light-sampling strategies)
+  std::optional<PlanarEmitter> planar;
 };
 
 // A receiving point's frame and BSDF for one view direction: what a BSDF
@@ -133,11 +156,14 @@ class ReceiverModel : public Receiver {
 };
 
 // The lights the receiver model solves at point p (normal n) of object
-// `receiver`, with their selection pmf: sphere emitters with nothing else
-// above p's horizon, and the constant environment with nothing above p's
+// `receiver`, with their selection pmf: sphere emitters nothing may block
+// (no object above p's horizon meets the cone from p over the sphere), disk,
+// rectangle and triangle emitters past disks parallel to them
+// (planar_emitter, receiver_planar.h; a planar light none of which reaches
+// p is left out), and the constant environment with nothing above p's
 // horizon. Throws furnace::Error naming the scene and the configuration for
-// anything else (point lights, an environment map, other emitter shapes,
-// occluders, p on or inside a sphere light); `who` names the receiver.
+// anything else (point lights, an environment map, other occluders, p on or
+// inside a sphere light); `who` names the receiver.
 std::vector<ReceiverLight> receiver_lights(const Scene& scene, const Vec3& p, const Vec3& n, size_t receiver,
                                            LightSelection selection, const std::string& who);
 

@@ -9,9 +9,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
+#include <boost/math/quadrature/gauss_kronrod.hpp>
+
 #include "analytic/receiver.h"
+#include "analytic/receiver_planar.h"
 #include "analytic/sin_cos.h"
 #include "core/adaptive_quadrature.h"
 #include "core/error.h"
@@ -24,6 +28,16 @@ namespace receiver_detail {
 // e = 100 has a width ~0.1 rad, resolved after a few levels; the cap edges
 // are smooth in the chosen variables.
 inline constexpr int kReceiverQuadratureDepth = 18;
+
+// Bisections allowed to one ray's integral on a planar light: a peak of
+// width w at the ray's start costs about 2·log2(length/w) of them (24 for
+// w = 2⁻¹² of the ray), so 48 resolve lobes far narrower than GGX's
+// α = 1e-3; the cap stops a ray chasing the lobe's own rounding noise (a
+// lobe cos^e α read from a rounded cos α is noisy to ~e·ε relative, 1e-9 at
+// e = 4e6, as large as the tolerance), which at e = 4e6 cost 5–8 times the
+// time for the same result (tests/analytic/receiver_planar_test.cpp,
+// DISABLED_GgxWidthLobesAtTheShadowEdge).
+inline constexpr size_t kPlaneInnerBisections = 48;
 
 // One ring of a cap: polar angle γ about the axis and what depends on it only.
 struct Ring {
@@ -70,12 +84,13 @@ struct LobeCap {
   double u_of_gamma(double gamma) const { return gamma; }
 };
 
-// What an integrand sees of a direction ω in the cap.
+// What an integrand sees of a direction ω toward a light.
 struct Direction {
   double cos_theta;  // n·ω > 0
   double cos_alpha;  // r·ω
   BsdfValue bsdf;    // receiver.at(cos_theta, cos_alpha): evaluated once per direction, however many terms use it
-  const Ring* ring;
+  double distance;      // to the light point it meets (sphere: the near intersection); 0 for the environment
+  double cos_emission;  // cos θ' there (the light-area density's emission cosine); 1 for the environment
 };
 
 // ∫ g(Direction) dω over the part of the cap (axis `axis`) above the
@@ -116,8 +131,9 @@ double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
             // 1 − cos α = |ω − r|²/2 from component differences: relative error ~ε/|ω − r|, not ε/|ω − r|².
             const double da = ring.cos_gamma - ra, ds = ring.sin_gamma * c - rs, dt = ring.sin_gamma * s - rt;
             const double one_minus_cos_alpha = 0.5 * (da * da + ds * ds + dt * dt);
-            return g(Direction{cos_theta, cos_alpha, receiver.R::at_direction(cos_theta, cos_alpha, one_minus_cos_alpha),
-                               &ring}) *
+            return g(Direction{cos_theta, cos_alpha,
+                               receiver.R::at_direction(cos_theta, cos_alpha, one_minus_cos_alpha), ring.distance,
+                               ring.cos_emission}) *
                    ring.measure * dpsi_dtau;
           };
           value += adaptive_gauss_kronrod_relative(inner, -arc.tau_max, arc.tau_max, kReceiverQuadratureTolerance,
@@ -158,10 +174,82 @@ double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
   return total;
 }
 
+// ∫ g(Direction) dω over a planar light's visible region (receiver_planar.h),
+// in polar coordinates (ρ, φ) about the mirror direction's hit point C on the
+// light's plane: dω = (h/d³)·ρ dρ dφ. The inner ρ runs over the exact
+// intervals of each ray inside the region, starting at the lobe's peak when
+// C is inside it; the outer φ is cut at every critical angle (the boundary's
+// vertices and tangents, PolarRegion), and each piece [a, b] is integrated
+// in halves by φ = a + σ², φ = b − σ², which removes the square-root
+// behaviour of a chord at a tangent angle. The outer pieces share an
+// absolute tolerance, kReceiverQuadratureTolerance times a first estimate of
+// the whole (one rule per piece), so that a piece holding little of the
+// integral is not asked for digits below its round-off.
+template <class R, class G>
+double plane_integral(const PlanarEmitter& light, const R& receiver, G g) {
+  const Vec3& n = receiver.n;
+  const Vec3 r = receiver.mirror();
+  const PolarRegion region(light.boundary, polar_centre(light, r));
+  const double h = light.height;
+  // n·v and r·v for v = x·s + y·t − h·toward_receiver (receiver_planar.h).
+  const double ns = dot(n, light.s), nt = dot(n, light.t), nh = -h * dot(n, light.toward_receiver);
+  const double r_toward = dot(r, light.toward_receiver);
+  const double rs = dot(r, light.s), rt = dot(r, light.t), rh = -h * r_toward;
+  const double cx = region.centre().x, cy = region.centre().y;
+  auto outer = [&](double phi) {
+    const double c = std::cos(phi), s = std::sin(phi);
+    std::vector<std::pair<double, double>> spans;
+    region.intervals(c, s, spans);
+    double sum = 0;
+    for (const auto& [lo, hi] : spans) {
+      auto inner = [&](double rho) {
+        const double x = cx + rho * c, y = cy + rho * s;
+        const double d2 = x * x + y * y + h * h, d = std::sqrt(d2);
+        const double cos_theta = (ns * x + nt * y + nh) / d;
+        if (!(cos_theta > 0)) return 0.0;  // on the horizon's boundary line, by rounding
+        const double cos_alpha = (rs * x + rt * y + rh) / d;
+        const double cos_emission = h / d;
+        // 1 − cos α = |ω − r|²/2 from component differences in the light's frame (as cap_integral).
+        const double ds = x / d - rs, dt = y / d - rt, du = -cos_emission - r_toward;
+        const double one_minus_cos_alpha = 0.5 * (ds * ds + dt * dt + du * du);
+        return g(Direction{cos_theta, cos_alpha, receiver.R::at_direction(cos_theta, cos_alpha, one_minus_cos_alpha),
+                           d, cos_emission}) *
+               rho * cos_emission / d2;
+      };
+      sum += adaptive_gauss_kronrod_relative(inner, lo, hi, kReceiverQuadratureTolerance, kReceiverQuadratureDepth, 1,
+                                             kPlaneInnerBisections);
+    }
+    return sum;
+  };
+  // Each piece's two halves in σ ∈ [0, √((b − a)/2)].
+  const std::vector<double>& angles = region.angles();
+  auto from_low = [&](double a) { return [&outer, a](double sigma) { return 2 * sigma * outer(a + sigma * sigma); }; };
+  auto from_high = [&](double b) { return [&outer, b](double sigma) { return 2 * sigma * outer(b - sigma * sigma); }; };
+  double first = 0;
+  for (size_t i = 0; i + 1 < angles.size(); ++i) {
+    const double a = angles[i], b = angles[i + 1], half = std::sqrt(0.5 * (b - a));
+    double error = 0;
+    first += std::fabs(boost::math::quadrature::gauss_kronrod<double, kDefaultKronrodPoints>::integrate(
+        from_low(a), 0, half, 0, 0.0, &error));
+    first += std::fabs(boost::math::quadrature::gauss_kronrod<double, kDefaultKronrodPoints>::integrate(
+        from_high(b), 0, half, 0, 0.0, &error));
+  }
+  const double tolerance = kReceiverQuadratureTolerance * first / double(2 * (angles.size() - 1));
+  double total = 0;
+  for (size_t i = 0; i + 1 < angles.size(); ++i) {
+    const double a = angles[i], b = angles[i + 1], half = std::sqrt(0.5 * (b - a));
+    total += adaptive_gauss_kronrod(from_low(a), 0, half, tolerance, kReceiverQuadratureDepth);
+    total += adaptive_gauss_kronrod(from_high(b), 0, half, tolerance, kReceiverQuadratureDepth);
+  }
+  return total;
+}
+
 // ∫ g(Direction) dω over the light's directions above the horizon: a
-// sphere's cone, or the sky's hemisphere where f can be non-zero.
+// sphere's cone, a planar light's visible region, or the sky's hemisphere
+// where f can be non-zero.
 template <class R, class G>
 double light_integral(const ReceiverLight& light, const R& receiver, G g) {
+  if (light.planar) return plane_integral(*light.planar, receiver, g);
   if (light.environment)
     return cap_integral(LobeCap{}, receiver.vanishes_below_mirror_plane() ? receiver.mirror() : receiver.n, receiver, g);
   const double D = length(light.center);
@@ -175,23 +263,34 @@ inline double cone_solid_angle(double D, double R) {
 }
 
 // Density in solid angle of the light strategy that samples `light` (pmf
-// included): the cone for light_solid_angle, the surface for light_area, the
-// cosine-weighted sky for the environment. What depends on the light alone
-// is computed once per light (LightDensity's constructor), not per direction.
+// included), as the renderer samples it (renderer/light_strategy.cpp, whose
+// choice core/strategy.h states): light_solid_angle draws uniformly in a
+// sphere's cone or in a planar light's whole spherical triangle or rectangle
+// (PlanarEmitter::solid_angle, unclipped and unoccluded: p = P/Ω), a disk or
+// any other planar light by area; light_area draws a point uniformly on the
+// whole surface, p = P·d²/(A cos θ'); the environment is cosine-weighted.
+// What depends on the light alone is computed once per light (LightDensity's
+// constructor), not per direction.
 struct LightDensity {
   const ReceiverLight& light;
   bool by_area;
-  double cone = 0;  // the cone's solid angle (sphere, light_solid_angle)
-  double area = 0;  // the sphere's area (light_area)
+  double solid_angle = 0;  // Ω sampled uniformly (light_solid_angle), 0: by area
+  double area = 0;         // the emitter's whole area (by area)
   LightDensity(const ReceiverLight& l, bool area_sampling) : light(l), by_area(area_sampling) {
     if (light.environment) return;
-    if (!by_area) cone = cone_solid_angle(length(light.center), light.radius);
-    area = 4 * kPi * light.radius * light.radius;
+    if (light.planar) {
+      area = light.planar->area;
+      if (!by_area) solid_angle = light.planar->solid_angle;
+    } else {
+      area = 4 * kPi * light.radius * light.radius;
+      if (!by_area) solid_angle = cone_solid_angle(length(light.center), light.radius);
+    }
+    by_area = !(solid_angle > 0);
   }
   double operator()(const Direction& d) const {
     if (light.environment) return light.pmf * d.cos_theta / kPi;
-    if (!by_area) return light.pmf / cone;
-    return light.pmf * d.ring->distance * d.ring->distance / (area * d.ring->cos_emission);
+    if (!by_area) return light.pmf / solid_angle;
+    return light.pmf * d.distance * d.distance / (area * d.cos_emission);
   }
 };
 

@@ -376,8 +376,9 @@ TEST(PhongReference, RefusesWhatItDoesNotSolve) {
   Scene point = glossy_scene(g);
   point.point_lights.push_back({"p", {0, 0, 1}, 1.0});
   EXPECT_THROW(phong_reflected_radiance(point, {0, 0, 0}, rx.n, rx.wo, 0), Error);
-  Scene disk = glossy_scene(g);
+  Scene disk = glossy_scene(g);  // a disk light behind a sphere (planar lights are solved past parallel disks only)
   disk.objects[1].shape = Disk{{0, 0, 1}, {0, 0, -1}, 0.3};
+  disk.objects.push_back({"sphere blocker", Sphere{{0, 0, 0.5}, 0.1}, {}, 0});
   EXPECT_THROW(phong_reflected_radiance(disk, {0, 0, 0}, rx.n, rx.wo, 0), Error);
   Scene blocked = glossy_scene({70, 10, true, {}});
   blocked.objects.push_back({"blocker", Sphere{{0, 0, 2}, 0.5}, {}, 0});

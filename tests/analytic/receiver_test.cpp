@@ -21,6 +21,7 @@
 #include "analytic/receiver_integrals.h"
 #include "analytic/reference.h"
 #include "core/error.h"
+#include "lambertian_receiver.h"
 
 namespace furnace::analytic {
 namespace {
@@ -33,31 +34,7 @@ constexpr double kMomentTolerance = 1e-8;
 // What the negative controls get wrong: a factor far outside the tolerance.
 constexpr double kWrongFactor = 1.1;
 
-// A Lambertian surface supplying only its two functions: f = ρ/π and
-// p_b = cos θ/π (times `pdf_factor`, 1 for the true density); `extra_cosine`
-// writes f·cos²θ for f·cos θ (a defect).
-class LambertianReceiver final : public ReceiverModel<LambertianReceiver> {
- public:
-  LambertianReceiver(const Vec3& n, const Vec3& wo, double albedo, double pdf_factor = 1, bool extra_cosine = false)
-      : ReceiverModel(n, wo), albedo_(albedo), pdf_factor_(pdf_factor), extra_cosine_(extra_cosine) {}
-  BsdfValue at(double cos_theta, double) const override {
-    BsdfValue v;
-    const double f = albedo_ / kPi;
-    v.f_cos = extra_cosine_ ? f * cos_theta * cos_theta : f * cos_theta;
-    v.pdf_solid_angle = pdf_factor_ * cos_theta / kPi;
-    v.f_cos2_over_pdf = v.f_cos * v.f_cos / v.pdf_solid_angle;
-    return v;
-  }
-  bool vanishes_below_mirror_plane() const override { return false; }
-  std::vector<double> parameters() const override {
-    return {double(BsdfType::kLambertian), albedo_, pdf_factor_, extra_cosine_ ? 1.0 : 0.0};
-  }
-  std::string name() const override { return "a test Lambertian receiver"; }
-
- private:
-  double albedo_, pdf_factor_;
-  bool extra_cosine_;
-};
+using receiver_testing::LambertianReceiver;
 
 constexpr double kAlbedo = 0.6;
 
