@@ -72,6 +72,7 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
       // path tracers' answer is the direct one (mean tests only: no
       // single-sample variance model for a path).
       {"ggx_sky_strips.json", everything, kUnlimitedDepth},
+      {"ggx_disk_occluder.json", everything, kUnlimitedDepth},  // normal view, α 0.5 and 0.15
       {"ggx_oblique_sky_60.json", everything, kUnlimitedDepth},
       {"ggx_oblique_sky_78.json", everything, kUnlimitedDepth},
       {"ggx_oblique_sphere_60.json", everything, kUnlimitedDepth},

@@ -227,7 +227,8 @@ TEST(GgxReference, RefusesWhatItDoesNotSolve) {
   point.point_lights.push_back({"p", {0, 0, 1}, 1.0});
   EXPECT_THROW(ggx_reflected_radiance(point, {0, 0, 0}, kNormal, wo, 0), Error);
   Scene disk = ggx_scene(0.1, kSeparable, false);
-  disk.objects[1].shape = Disk{{0, 0, 1}, {0, 0, -1}, 0.3};
+  disk.objects[1].shape = Disk{{0, 0, 1}, {0, 0, -1}, 0.3};  // a disk light is solved; behind a sphere it is not
+  disk.objects.push_back({"blocker", Sphere{{0, 0, 0.5}, 0.1}, {}, 0});
   EXPECT_THROW(ggx_reflected_radiance(disk, {0, 0, 0}, kNormal, wo, 0), Error);
   Scene blocked = ggx_scene(0.1, kSeparable, true);
   blocked.objects.push_back({"blocker", Sphere{{0, 0, 2}, 0.5}, {}, 0});

@@ -60,7 +60,7 @@ TEST(CyclesExport, RefusesExactlyImageEnvironmentsPointLightsAndGlossyScenesAmon
   }
   EXPECT_EQ(refused, (std::set<std::string>{"environment_map", "environment_map_tilted", "glossy_environment",
                                             "glossy_sphere_light", "point_light", "point_light_unoccluded",
-                                            "point_and_area", "ggx_sky_strips", "ggx_oblique_sky_60", "ggx_oblique_sky_78",
+                                            "point_and_area", "ggx_sky_strips", "ggx_disk_occluder", "ggx_oblique_sky_60", "ggx_oblique_sky_78",
                                             "ggx_oblique_sphere_60", "ggx_oblique_sphere_78"}));
 }
 

@@ -60,7 +60,7 @@ TEST(PbrtV4Export, RefusesExactlyTheImageEnvironmentsAndGlossyScenesAmongTheBuil
     if (pbrt_v4_refusal(scene)) refused.insert(scene.name);
   }
   EXPECT_EQ(refused, (std::set<std::string>{"environment_map", "environment_map_tilted", "glossy_environment",
-                                            "glossy_sphere_light", "ggx_sky_strips", "ggx_oblique_sky_60",
+                                            "glossy_sphere_light", "ggx_sky_strips", "ggx_disk_occluder", "ggx_oblique_sky_60",
                                             "ggx_oblique_sky_78", "ggx_oblique_sphere_60", "ggx_oblique_sphere_78"}));
 }
 
