@@ -39,6 +39,8 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
                                                Strategy::kMisBalance, Strategy::kMisPower, Strategy::kMisOneSample};
   const std::vector<Strategy> glossy_sky = {Strategy::kLightSolidAngle, Strategy::kBsdf, Strategy::kMisBalance,
                                             Strategy::kMisPower, Strategy::kMisOneSample};
+  std::vector<Strategy> glossy_sphere_paths = glossy_sphere;
+  glossy_sphere_paths.insert(glossy_sphere_paths.end(), paths.begin(), paths.end());
   const std::vector<Entry> entries = {
       {"disk_occluder.json", everything, kUnlimitedDepth},
       {"sphere_light.json", direct, kUnlimitedDepth},
@@ -75,8 +77,10 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
       {"ggx_disk_occluder.json", everything, kUnlimitedDepth},  // normal view, α 0.5 and 0.15
       {"ggx_oblique_sky_60.json", everything, kUnlimitedDepth},
       {"ggx_oblique_sky_78.json", everything, kUnlimitedDepth},
-      {"ggx_oblique_sphere_60.json", everything, kUnlimitedDepth},
-      {"ggx_oblique_sphere_78.json", everything, kUnlimitedDepth},
+      // Hemisphere sampling rarely finds the sphere from these receivers
+      // (at 78° it detects only 14–21 % biases, most pixels untested): left out.
+      {"ggx_oblique_sphere_60.json", glossy_sphere_paths, kUnlimitedDepth},
+      {"ggx_oblique_sphere_78.json", glossy_sphere_paths, kUnlimitedDepth},
       // Hard cases, each there for one bug class (README, "The built-in suite").
       // Receivers and camera rays that see the backs of one-sided lights.
       {"back_facing_emitters.json", everything, kUnlimitedDepth},
