@@ -22,7 +22,7 @@
 //     (f·cos θ)²/p_b = ρ²(e+2)²/(2π(e+1))·cos^e α·cos²θ,
 // written without the cancelling cos^e α.
 //
-// Domain: as receiver.h (sphere lights and the constant sky, unoccluded),
+// Domain: as receiver.h (sphere and planar lights, the occluded disk, the constant sky),
 // exponent ≥ 0. Units: radiance W·m⁻²·sr⁻¹, second moments its square.
 #pragma once
 

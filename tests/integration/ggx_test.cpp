@@ -12,7 +12,9 @@
 //    normal view, so only an oblique view, under light sampling (eval);
 //  - the sampler stretching by α²: the density drawn is not the one
 //    divided by, at every α < 1 (normal view, BSDF sampling);
-//  - Λ with α²: G2 at normal view is G1(ωi), so light sampling sees it;
+//  - Λ with α²: at normal view only G1(ωi) carries it, a bias of ~0.2 %
+//    (z 5.1 against 4.8 under light sampling at 4096 spp); at cos θo = 0.2
+//    both Λ do (z 325 under mis_balance);
 //  - D without 1/π: f is π times too large under light sampling (BSDF
 //    sampling divides by a pdf with the same D, so its weight hides it).
 //
@@ -59,7 +61,7 @@ INSTANTIATE_TEST_SUITE_P(
         GgxControl{"SeparableAsHeightCorrelated", "ggx_oblique_sky_78.json", Strategy::kLightSolidAngle,
                    Defect::kGgxSeparableAsHeightCorrelated},
         GgxControl{"SampleAlphaSquared", "ggx_sky_strips.json", Strategy::kBsdf, Defect::kGgxSampleAlphaSquared},
-        GgxControl{"LambdaOtherAlpha", "ggx_sky_strips.json", Strategy::kLightSolidAngle, Defect::kGgxLambdaOtherAlpha},
+        GgxControl{"LambdaOtherAlpha", "ggx_oblique_sky_78.json", Strategy::kMisBalance, Defect::kGgxLambdaOtherAlpha},
         GgxControl{"DWithoutInvPi", "ggx_sky_strips.json", Strategy::kLightSolidAngle, Defect::kGgxDWithoutInvPi}),
     [](const testing::TestParamInfo<GgxControl>& info) { return info.param.name; });
 
