@@ -1,5 +1,7 @@
 #include "verify/suite.h"
 
+#include <algorithm>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -39,6 +41,13 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
                                                Strategy::kMisBalance, Strategy::kMisPower, Strategy::kMisOneSample};
   const std::vector<Strategy> glossy_sky = {Strategy::kLightSolidAngle, Strategy::kBsdf, Strategy::kMisBalance,
                                             Strategy::kMisPower, Strategy::kMisOneSample};
+  const auto without = [&](std::vector<Strategy> from, std::initializer_list<Strategy> drop) {
+    for (Strategy d : drop) from.erase(std::remove(from.begin(), from.end(), d), from.end());
+    return from;
+  };
+  const std::vector<Strategy> ggx_sky_strips =
+      without(everything, {Strategy::kUniformHemisphere, Strategy::kBsdf, Strategy::kPathNaive});
+  const std::vector<Strategy> ggx_disk = without(everything, {Strategy::kUniformHemisphere});
   std::vector<Strategy> glossy_sphere_paths = glossy_sphere;
   glossy_sphere_paths.insert(glossy_sphere_paths.end(), paths.begin(), paths.end());
   const std::vector<Entry> entries = {
@@ -73,8 +82,14 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
       // model does not solve a sky partly hidden by a light). A single plane cannot see itself, so the
       // path tracers' answer is the direct one (mean tests only: no
       // single-sample variance model for a path).
-      {"ggx_sky_strips.json", everything, kUnlimitedDepth},
-      {"ggx_disk_occluder.json", everything, kUnlimitedDepth},  // normal view, α 0.5 and 0.15
+      // On the sky strips, uniform hemisphere, BSDF and naive path sampling
+      // leave the α = 0.05 strip (32 of 160 pixels) too skewed for the pixel
+      // t-test at 4096 spp (BSDF: weight ρ·G1(ωi), nearly constant but for
+      // rare grazing draws); BSDF sampling at normal view is tested in
+      // tests/integration/ggx_test.cpp. Under the occluded disk, uniform
+      // hemisphere sampling detects only 6 % biases.
+      {"ggx_sky_strips.json", ggx_sky_strips, kUnlimitedDepth},
+      {"ggx_disk_occluder.json", ggx_disk, kUnlimitedDepth},  // normal view, α 0.5 and 0.15
       {"ggx_oblique_sky_60.json", everything, kUnlimitedDepth},
       {"ggx_oblique_sky_78.json", everything, kUnlimitedDepth},
       // Hemisphere sampling rarely finds the sphere from these receivers
