@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analytic/error_ledger.h"
+#include "analytic/ggx.h"
 #include "analytic/moments.h"
 #include "analytic/phong.h"
 #include "analytic/receiver.h"
@@ -87,7 +88,7 @@ double glossy_radiance(const Scene& scene, const Vec3& p, const Vec3& n, const V
   const Material& m = scene.objects[receiver].material;
   switch (m.type) {
     case BsdfType::kPhong: return analytic::phong_reflected_radiance(scene, p, n, wo, receiver);
-    case BsdfType::kGgx: break;  // TODO(issue 29): analytic::ggx_reflected_radiance
+    case BsdfType::kGgx: return analytic::ggx_reflected_radiance(scene, p, n, wo, receiver);
     case BsdfType::kLambertian:
     case BsdfType::kMirror:
       break;
@@ -100,7 +101,7 @@ double glossy_second_moment(Strategy strategy, const Scene& scene, const Vec3& p
   const Material& m = scene.objects[receiver].material;
   switch (m.type) {
     case BsdfType::kPhong: return analytic::phong_second_moment(strategy, scene, p, n, wo, receiver);
-    case BsdfType::kGgx: break;  // TODO(issue 29): analytic::ggx_second_moment
+    case BsdfType::kGgx: return analytic::ggx_second_moment(strategy, scene, p, n, wo, receiver);
     case BsdfType::kLambertian:
     case BsdfType::kMirror:
       break;

@@ -148,6 +148,27 @@ TEST_F(GlossyQuery, ViewBelowTheHorizonIsRefusedNamingIt) {
   }
 }
 
+// A GGX receiver: ggx_oblique_sky_78's separable α = 1 strip under the sky,
+// seen by the camera at cos θo = 0.2; its directional albedo has the closed
+// form 2(1 − ln 2)ρ/(1 + μo) (analytic/ggx.cpp derives it).
+TEST(AnalyticQueryGgx, RadianceOfTheReceiversOwnMicrofacets) {
+  const Scene scene = load_scene(std::string(FURNACE_SCENE_DIR) + "/ggx_oblique_sky_78.json");
+  AnalyticQuery q;
+  q.point = {-0.75, 0, 0};
+  q.normal = {0, 0, 1};
+  const nlohmann::json a = nlohmann::json::parse(answer_analytic_query(scene, q, true));
+  EXPECT_EQ(a["receiver"], "ggx_a1_sep");
+  EXPECT_EQ(a["bsdf"]["type"], "ggx");
+  EXPECT_EQ(a["bsdf"]["alpha"].get<double>(), 1.0);
+  EXPECT_EQ(a["bsdf"]["shadowing"], "separable");
+  const double mu_o = -scene.camera.forward.z;
+  const double rho = scene.objects[0].material.albedo;
+  const double closed_form = scene.environment.radiance * 2 * (1 - std::log(2.0)) * rho / (1 + mu_o);
+  EXPECT_NEAR(a["radiance"].get<double>(), closed_form, 1e-12 * closed_form);
+  for (Strategy s : direct_strategies())
+    EXPECT_GT(a["estimators"][strategy_name(s)]["variance"].get<double>(), 0.0) << strategy_name(s);
+}
+
 TEST(AnalyticQueryMirror, AMirrorReceiverIsRefused) {
   const Scene scene = load_scene(std::string(FURNACE_SCENE_DIR) + "/mirror_disk.json");
   AnalyticQuery q;
