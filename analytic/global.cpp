@@ -73,18 +73,6 @@ bool reflectors_share_one_plane(const Scene& scene) {
   return true;
 }
 
-bool is_glossy(const Object& o) {
-  switch (o.material.type) {
-    case BsdfType::kPhong:
-    case BsdfType::kGgx:
-      return true;
-    case BsdfType::kLambertian:
-    case BsdfType::kMirror:
-      return false;
-  }
-  return false;
-}
-
 enum class Kind { kEnclosure, kFurnace, kDirectOnly };
 
 struct Classification {
@@ -99,7 +87,7 @@ Classification classify(const Scene& scene, int max_segments) {
   // reflectors in one plane and no closed enclosure; their direct light is
   // the receiver model's (reference.h's hit_radiance).
   for (const Object& o : scene.objects) {
-    if (!is_glossy(o) || !(o.material.albedo > 0)) continue;
+    if (!is_glossy(o.material.type) || !(o.material.albedo > 0)) continue;
     if (scene.closed || !reflectors_share_one_plane(scene))
       no_closed_form(scene, fmt::format("the glossy object '{}' ({}) has a closed form only as one of reflectors in "
                                         "one plane, which light leaves after one bounce",
@@ -203,7 +191,7 @@ double leaving_radiance(const Scene& scene, const Classification& c, const Hit& 
     case Kind::kDirectOnly: {
       const double le = (front || o.two_sided) ? o.emitted_radiance : 0.0;
       if (segments_left < 2 || o.material.albedo == 0) return le;
-      if (is_glossy(o)) return hit_radiance(scene, hit, direction);  // le + the receiver model's direct light
+      if (is_glossy(o.material.type)) return hit_radiance(scene, hit, direction);  // le + the receiver model's direct light
       const Vec3 n = front ? hit.normal : -hit.normal;
       return le + o.material.albedo * kInvPi * irradiance(scene, hit.point, n, hit.object_index);
     }

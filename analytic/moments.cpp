@@ -183,17 +183,37 @@ double second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const
 
 namespace {
 
-// A glossy hit's forms (phong.h, ggx.h) for the receiver's material type.
+[[noreturn]] void no_glossy_reference(const Scene& scene, size_t receiver) {
+  unsupported_configuration(scene, "the receiver '" + scene.objects[receiver].name + "' (" +
+                                       bsdf_type_name(scene.objects[receiver].material.type) +
+                                       "), which is not glossy, as a glossy receiver");
+}
+
+}  // namespace
+
 double glossy_reflected_radiance(const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo, size_t receiver) {
-  return scene.objects[receiver].material.type == BsdfType::kGgx ? ggx_reflected_radiance(scene, p, n, wo, receiver)
-                                                                   : phong_reflected_radiance(scene, p, n, wo, receiver);
+  switch (scene.objects[receiver].material.type) {
+    case BsdfType::kPhong: return phong_reflected_radiance(scene, p, n, wo, receiver);
+    case BsdfType::kGgx: return ggx_reflected_radiance(scene, p, n, wo, receiver);
+    case BsdfType::kLambertian:
+    case BsdfType::kMirror:
+      break;
+  }
+  no_glossy_reference(scene, receiver);
 }
 double glossy_second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo,
                             size_t receiver, LightSelection selection) {
-  return scene.objects[receiver].material.type == BsdfType::kGgx
-             ? ggx_second_moment(strategy, scene, p, n, wo, receiver, selection)
-             : phong_second_moment(strategy, scene, p, n, wo, receiver, selection);
+  switch (scene.objects[receiver].material.type) {
+    case BsdfType::kPhong: return phong_second_moment(strategy, scene, p, n, wo, receiver, selection);
+    case BsdfType::kGgx: return ggx_second_moment(strategy, scene, p, n, wo, receiver, selection);
+    case BsdfType::kLambertian:
+    case BsdfType::kMirror:
+      break;
+  }
+  no_glossy_reference(scene, receiver);
 }
+
+namespace {
 
 // pixel_center_second_moment's steps for N second moments at once:
 // phong(p, n, wo, receiver) gives the N glossy estimators' E[Y²] at a Phong

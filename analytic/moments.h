@@ -107,6 +107,14 @@ double second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const
 // (phong_second_moment, which takes the strategy itself: bsdf sampling is the
 // lobe there, not cosine sampling);
 // a miss sees the environment: E[Y_px²] = L_env² (zero variance).
+// A glossy receiver's forms by its material type (phong.h, ggx.h): the
+// radiance reflected toward wo at point p of object `receiver` and its
+// direct estimators' E[Y²]. Throws furnace::Error for a receiver that is not
+// glossy (is_glossy, reference.h) or a configuration its model does not solve.
+double glossy_reflected_radiance(const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo, size_t receiver);
+double glossy_second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo,
+                            size_t receiver, LightSelection selection = LightSelection::kUniform);
+
 double pixel_center_second_moment(Strategy strategy, const Scene& scene, int px, int py,
                                   LightSelection selection = LightSelection::kUniform);
 

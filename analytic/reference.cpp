@@ -77,6 +77,18 @@ double hit_radiance(const Scene& scene, const Hit& hit, const Vec3& direction) {
   unsupported_configuration(scene, "a camera ray hitting the non-Lambertian, non-black object '" + object.name + "'");
 }
 
+bool is_glossy(BsdfType type) {
+  switch (type) {
+    case BsdfType::kPhong:
+    case BsdfType::kGgx:
+      return true;
+    case BsdfType::kLambertian:
+    case BsdfType::kMirror:
+      return false;
+  }
+  return false;
+}
+
 std::vector<double> reference_image(const Scene& scene) {
   const Camera& camera = scene.camera;
   std::vector<double> image(size_t(camera.width_px) * size_t(camera.height_px));

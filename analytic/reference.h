@@ -55,6 +55,10 @@ double ray_radiance(const Scene& scene, const Vec3& origin, const Vec3& directio
 // reflects there (Lambertian, Phong, GGX; a mirror is refused).
 double hit_radiance(const Scene& scene, const Hit& hit, const Vec3& direction);
 
+// Whether a material type is glossy: a lobe with a receiver model (Phong,
+// GGX), answered by glossy_reflected_radiance (moments.h).
+bool is_glossy(BsdfType type);
+
 // All pixel centres, row-major (index = py * width + px).
 std::vector<double> reference_image(const Scene& scene);
 

@@ -9,9 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analytic/error_ledger.h"
-#include "analytic/ggx.h"
 #include "analytic/moments.h"
-#include "analytic/phong.h"
 #include "analytic/receiver.h"
 #include "analytic/reference.h"
 #include "core/error.h"
@@ -82,46 +80,6 @@ std::string bsdf_text(const nlohmann::ordered_json& bsdf) {
   return text + ")";
 }
 
-// The glossy receiver's radiance toward wo and its estimators' E[Y²], from
-// the receiver model of its BSDF (analytic/phong.h, analytic/ggx.h).
-double glossy_radiance(const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo, size_t receiver) {
-  const Material& m = scene.objects[receiver].material;
-  switch (m.type) {
-    case BsdfType::kPhong: return analytic::phong_reflected_radiance(scene, p, n, wo, receiver);
-    case BsdfType::kGgx: return analytic::ggx_reflected_radiance(scene, p, n, wo, receiver);
-    case BsdfType::kLambertian:
-    case BsdfType::kMirror:
-      break;
-  }
-  throw Error(fmt::format("scene file '{}': the receiver '{}' ({}) has no glossy reference.", scene.source,
-                          scene.objects[receiver].name, bsdf_type_name(m.type)));
-}
-double glossy_second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo,
-                            size_t receiver) {
-  const Material& m = scene.objects[receiver].material;
-  switch (m.type) {
-    case BsdfType::kPhong: return analytic::phong_second_moment(strategy, scene, p, n, wo, receiver);
-    case BsdfType::kGgx: return analytic::ggx_second_moment(strategy, scene, p, n, wo, receiver);
-    case BsdfType::kLambertian:
-    case BsdfType::kMirror:
-      break;
-  }
-  throw Error(fmt::format("scene file '{}': the receiver '{}' ({}) has no glossy reference.", scene.source,
-                          scene.objects[receiver].name, bsdf_type_name(m.type)));
-}
-
-bool is_glossy(BsdfType type) {
-  switch (type) {
-    case BsdfType::kPhong:
-    case BsdfType::kGgx:
-      return true;
-    case BsdfType::kLambertian:
-    case BsdfType::kMirror:
-      return false;
-  }
-  return false;
-}
-
 // The glossy receiver's answer: its radiance toward the view and each direct
 // strategy's single-sample estimator of it. The receiver model's nested
 // quadratures do not report the error they reach: the bound stated is their
@@ -135,7 +93,7 @@ std::string answer_glossy_query(const Scene& original, const AnalyticQuery& q, s
   const nlohmann::ordered_json bsdf = bsdf_json(material);
   const double relative_bound =
       2 * analytic::kReceiverQuadratureTolerance + analytic::kRoundoffUlps * std::numeric_limits<double>::epsilon();
-  const double radiance = glossy_radiance(scene, q.point, q.normal, view.direction, receiver);
+  const double radiance = analytic::glossy_reflected_radiance(scene, q.point, q.normal, view.direction, receiver);
   if (!std::isfinite(radiance))
     throw Error(fmt::format("scene file '{}': the exact radiance at the point is {}, not a finite number (an "
                             "emission or radiance too large for double precision).",
@@ -167,7 +125,7 @@ std::string answer_glossy_query(const Scene& original, const AnalyticQuery& q, s
     const std::string& est = strategy_name(strategy);
     std::string moment_text, variance_text;
     try {
-      const double m2 = glossy_second_moment(strategy, scene, q.point, q.normal, view.direction, receiver);
+      const double m2 = analytic::glossy_second_moment(strategy, scene, q.point, q.normal, view.direction, receiver);
       const double m2_bound = std::fabs(m2) * relative_bound;
       const double variance = m2 - radiance * radiance;
       const double variance_bound = m2_bound + 2 * std::fabs(radiance) * radiance_bound +
@@ -195,7 +153,7 @@ std::string answer_analytic_query(const Scene& scene, const AnalyticQuery& q, bo
   const std::optional<size_t> receiver = receiver_at(scene, q.point, q.normal);
   if (receiver) {
     const Object& object = scene.objects[*receiver];
-    if (is_glossy(object.material.type)) return answer_glossy_query(scene, q, *receiver, json);
+    if (analytic::is_glossy(object.material.type)) return answer_glossy_query(scene, q, *receiver, json);
     if (object.material.type == BsdfType::kMirror && (q.albedo ? *q.albedo : object.material.albedo) > 0)
       throw Error(fmt::format("scene file '{}': the receiver '{}' at the point is a mirror, a delta lobe with no "
                               "reference at a point (its radiance is the radiance along the mirrored ray).",
