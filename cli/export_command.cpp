@@ -8,9 +8,11 @@
 
 #include "cli/cli_options.h"
 #include "core/error.h"
+#include "core/path_length.h"
 #include "core/scene.h"
 #include "export/cycles.h"
 #include "export/pbrt_v4.h"
+#include "renderer/render_options.h"
 
 namespace furnace::cli {
 
@@ -103,6 +105,11 @@ CLI::App* add_export_command(CLI::App& app, ExportCommandOptions& o) {
 int run_export(const ExportCommandOptions& o) {
   const Scene scene = load_scene(o.scene_path);
   const ExportFormatInfo& format = format_info(o.format);
+  // A scene whose answer is infinite at the requested depth, or whose paths
+  // would be about endless, is refused as furnace's own render refuses it
+  // (core/path_length.h, with furnace's default roulette depth): another
+  // renderer would render it forever too.
+  require_bounded_paths(scene, o.max_segments, RenderOptions{}.roulette_depth);
   format.write(scene, o);
   fmt::print("exported {} ({}) for {} -> {}\n", scene.name, scene.source, format.name, o.output);
   return kExitPass;

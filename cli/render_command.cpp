@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "cli/cli_options.h"
+#include "core/path_length.h"
 #include "core/provenance.h"
 #include "core/scene.h"
 #include "renderer/exr_io.h"
@@ -39,6 +40,12 @@ CLI::App* add_render_command(CLI::App& app, RenderCommandOptions& o) {
 
 int run_render(const RenderCommandOptions& o) {
   const Scene scene = load_scene(o.scene_path);
+  // Said before the render starts: a path tracer's paths may be very long.
+  if (is_path_tracer(o.render.strategy)) {
+    require_bounded_paths(scene, o.render.max_depth, o.render.roulette_depth);
+    if (const auto statement = path_length_statement(scene, o.render.max_depth, o.render.roulette_depth))
+      std::fprintf(stderr, "furnace: warning: %s\n", statement->c_str());
+  }
   const Image image = render(scene, o.render);
   write_exr(o.output, image, render_provenance(o.scene_path, scene, o.render));
   const double samples = double(image.width) * image.height * o.render.spp;

@@ -8,6 +8,8 @@
 #include "cli/cli_options.h"
 #include "cli/progress.h"
 #include "core/error.h"
+#include "core/path_length.h"
+#include "core/scene.h"
 #include "verify/report.h"
 #include "verify/report_html.h"
 #include "verify/seed_figure.h"
@@ -69,6 +71,11 @@ int run_report(const ReportCommandOptions& o) {
   const verify::PlotTools tools = html ? verify::find_plot_tools() : verify::PlotTools{};
   const std::vector<verify::Case> cases = report_cases(o);
   if (cases.empty()) throw Error("no report case matches the given --scene and --strategy options.");
+  // A path tracer's scene whose answer is infinite or whose paths would be
+  // about endless is refused before the output directory is touched.
+  for (const verify::Case& c : cases)
+    if (is_path_tracer(c.options.strategy))
+      require_bounded_paths(load_scene(c.scene_path), c.options.max_depth, c.options.roulette_depth);
   create_output_directory(dir, "--output-dir");
   verify::Progress progress("report", cases.size() + (html ? 1 : 0));
   const std::vector<verify::ReportCase> measured =

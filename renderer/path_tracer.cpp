@@ -2,6 +2,11 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/path_length.h"
+
 namespace furnace {
 
 namespace {
@@ -14,6 +19,9 @@ PathTracer::PathTracer(const EmbreeScene& scene, const LightSet& lights, const R
       next_event_(is_path_tracer(options.strategy) && samples_lights(options.strategy)),
       max_depth_(options.max_depth),
       roulette_depth_(options.roulette_depth),
+      segment_cap_(needs_path_segment_cap(scene.scene(), options.max_depth, options.roulette_depth)
+                       ? kOpenScenePathSegmentCap
+                       : options.max_depth),
       defect_(options.defect) {
   light_.scene = &scene;
   light_.lights = &lights;
@@ -45,6 +53,11 @@ double PathTracer::radiance(const Vec3& direction, const std::optional<SurfaceHi
       radiance += throughput * w * le;
     }
     if (!hit || depth >= max_depth_) break;
+    if (depth >= segment_cap_)
+      throw Error(fmt::format("scene '{}': a path reached {} segments: the scene is not marked closed, yet it keeps "
+                              "its paths like a closed enclosure of albedo near 1; set a finite max depth "
+                              "(--max-depth N).",
+                              scene.source.empty() ? scene.name : scene.source, segment_cap_));
 
     const Object& object = scene.objects[hit->object];
     const ShadingContext ctx = ShadingContext::at(*hit, -wi_world, object.material, defect_);

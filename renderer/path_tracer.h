@@ -8,7 +8,9 @@
 //    heuristic, emission found by light sampling against the BSDF density.
 // Russian roulette from RenderOptions::roulette_depth with survival
 // probability min(1, throughput), survivors reweighted by 1/p; paths end at
-// RenderOptions::max_depth segments (the camera segment is segment 1).
+// RenderOptions::max_depth segments (the camera segment is segment 1). A
+// path of a scene whose expected length has no bound (core/path_length.h)
+// throws furnace::Error at kOpenScenePathSegmentCap segments.
 // Sample weights follow estimator.h (weight = f·cos θ/pdf).
 #pragma once
 
@@ -34,6 +36,7 @@ class PathTracer {
   bool next_event_;
   int max_depth_;
   int roulette_depth_;
+  int segment_cap_;  // kOpenScenePathSegmentCap, or max_depth_ when the scene's bound needs no cap
   Defect defect_;  // DEFECT(roulette_no_reweight), DEFECT(double_count_emission) in path_tracer.cpp
   LightStrategy light_;
   BsdfStrategy bsdf_;

@@ -19,6 +19,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "core/path_length.h"
 #include "renderer/direct_strategies.h"
 #include "renderer/embree_scene.h"
 #include "renderer/lights.h"
@@ -107,6 +108,9 @@ std::vector<Image> render_sharing_samples(const Scene& scene, const RenderOption
   }
 
   const bool path = is_path_tracer(options.strategy);
+  // A closed scene whose answer is infinite, or whose paths would be about
+  // endless, is refused before anything is traced (core/path_length.h).
+  if (path) require_bounded_paths(scene, options.max_depth, options.roulette_depth);
   // A path tracer shares its samples with no other strategy (shares_samples):
   // one estimator. DirectLighting checks the direct strategies' list.
   if (path && strategies.size() != 1)

@@ -170,7 +170,7 @@ CheckReference check_reference(const Scene& scene, std::optional<int> max_depth)
   } catch (const Error& e) {
     if (max_depth && *max_depth != kDirectLightingSegments)
       throw Error(fmt::format("{}, so --max-depth {} cannot be checked; only direct lighting (--max-depth 2) can.",
-                              without_final_period(e.what()), *max_depth));
+                              without_final_period(e.what()), depth_name(*max_depth)));
     r.note = e.what();
   }
   r.values = analytic::reference_image(scene);

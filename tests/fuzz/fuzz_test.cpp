@@ -36,6 +36,9 @@
 #include <thread>
 #include <vector>
 
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
 #include "analytic/global.h"
 #include "analytic/moments.h"
 #include "analytic/reference.h"
@@ -467,6 +470,84 @@ TEST(Fuzz, CommandLineMutations) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("command-line fuzz: %zu cases (of %zu mutations): exit 0: %zu, exit 1: %zu, exit 2: %zu, exit 3: %zu; "
               "%.1f s; limit %d s per case\n", cases.size(), all.size(), by_code[0], by_code[1], by_code[2], by_code[3], seconds,
+              kCaseTimeLimit);
+}
+
+// ---------------------------------------------------------------------------
+// Long paths: the closed enclosures with albedo 1 and its near-1 neighbours,
+// marked closed and (wrongly) open, at unlimited depth through every path
+// tracer (core/path_length.h). A closed scene is refused when its bound on
+// the expected path length, 3 + ρ/(1−ρ) segments with the default roulette,
+// exceeds 1e5 (ρ ≥ 1 − 1e-5) or its answer is infinite (ρ = 1); an open one
+// is rendered, and a path that reaches 2^20 segments ends the render as bad
+// input. Every case ends well inside the time limit, with the exit-code
+// contract; `report` and `export` refuse the albedo-1 enclosure too.
+
+struct LongPathCase {
+  double albedo;
+  bool closed;
+  std::vector<int> exit_codes;  // the ones allowed
+};
+
+std::string with_albedo(const std::string& text, double albedo, bool closed) {
+  nlohmann::json j = nlohmann::json::parse(text);
+  j["closed"] = closed;
+  j["camera"]["resolution"] = {2, 2};
+  for (auto& o : j["objects"])
+    if (o.contains("material")) o["material"]["albedo"] = albedo;
+  return j.dump();
+}
+
+TEST(Fuzz, LongPathsAreRefusedOrEndInTime) {
+  const auto start = std::chrono::steady_clock::now();
+  const ScratchDir scratch;
+  const fs::path out = scratch.path() / "out";
+  const std::vector<LongPathCase> cases = {
+      {1, true, {2}},           {1 - 1e-6, true, {2}},     {1 - 1e-5, true, {2}},  {1 - 1e-4, true, {0}},
+      {0.999, true, {0}},       {1, false, {2}},           {1 - 1e-6, false, {0, 2}}, {1 - 1e-5, false, {0, 2}},
+      {1 - 1e-4, false, {0}},   {0.999, false, {0}},
+  };
+  std::vector<std::string> path_tracers;
+  for (const StrategyInfo& info : kStrategyTable)
+    if (is_path_tracer(info.strategy)) path_tracers.push_back(info.name);
+  ASSERT_GE(path_tracers.size(), 2u);
+  size_t runs = 0, refused = 0;
+  for (const char* name : {"enclosure_sphere", "enclosure_box", "enclosure_blockers"}) {
+    const std::string text = read_file(fs::path(FURNACE_SCENE_DIR) / (std::string(name) + ".json"));
+    for (size_t i = 0; i < cases.size(); ++i) {
+      const LongPathCase& c = cases[i];
+      const fs::path scene = scratch.path() / fmt::format("{}_{}_{:.0e}.json", name, c.closed ? "closed" : "open",
+                                                          1 - c.albedo);
+      std::ofstream(scene, std::ios::binary) << with_albedo(text, c.albedo, c.closed);
+      const std::string strategy = path_tracers[(i + runs) % path_tracers.size()];
+      const std::string description = fmt::format("{} (albedo {}, {}) through {}", scene.filename().string(),
+                                                  c.albedo, c.closed ? "closed" : "open", strategy);
+      const CliRun run = run_cli({"render", "--scene", scene.string(), "--strategy", strategy, "--spp", "1",
+                                  "--threads", "1", "--output", (out / "out.exr").string()},
+                                 out, scratch.path());
+      ++runs;
+      refused += run.exit_code == 2;
+      EXPECT_NE(std::find(c.exit_codes.begin(), c.exit_codes.end(), run.exit_code), c.exit_codes.end())
+          << description << ": exit " << run.exit_code << ", stderr:\n" << run.err;
+      expect_contract(run, {scene.string()}, description);
+      if (c.albedo == 1 && c.closed)
+        EXPECT_NE(run.err.find("infinite radiance"), std::string::npos) << description << ": " << run.err;
+      if (c.albedo == 1 && c.closed) {
+        for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+                 {"report", "--scene", scene.string(), "--strategy", strategy, "--min-spp", "2", "--max-spp", "2",
+                  "--threads", "1", "--no-html", "--output-dir", (out / "report").string()},
+                 {"export", "--scene", scene.string(), "--format", "pbrt-v4", "-o", (out / "x.pbrt").string()},
+                 {"export", "--scene", scene.string(), "--format", "cycles", "-o", (out / "x.py").string()}}) {
+          const CliRun other = run_cli(args, out, scratch.path());
+          ++runs;
+          EXPECT_EQ(other.exit_code, 2) << description << " [furnace " << args[0] << "]: " << other.err;
+          expect_contract(other, {scene.string()}, description + " [furnace " + args[0] + "]");
+        }
+      }
+    }
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("long-path fuzz: %zu runs (%zu renders refused); %.1f s; limit %d s per case\n", runs, refused, seconds,
               kCaseTimeLimit);
 }
 

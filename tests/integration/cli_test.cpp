@@ -375,6 +375,27 @@ TEST_F(CheckCommand, PathTracedEnclosurePassesAgainstUnlimitedDepthByDefault) {
   EXPECT_NE(direct.output.find("warning"), std::string::npos) << direct.output;
 }
 
+// The closed albedo-1 enclosure has infinite radiance at unlimited depth:
+// check refuses it as bad input (the rule verify applies and render refuses
+// with, core/path_length.h), naming the depth in words.
+TEST_F(CheckCommand, InfiniteAnswerAtTheRequestedDepthIsBadInput) {
+  std::ifstream in(std::string(FURNACE_SCENE_DIR) + "/enclosure_sphere.json");
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["objects"][0]["material"]["albedo"] = 1;
+  const auto scene = dir_ / "white_enclosure.json";
+  std::ofstream(scene) << j.dump();
+  const std::string images = " --image " + render(kDisk, 1, "none", 4) + " --image " + render(kDisk, 2, "none", 4);
+  const Result r = run_cli("check --scene " + scene.string() + images + " --max-depth unlimited");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("infinite radiance"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--max-depth unlimited cannot be checked"), std::string::npos) << r.output;
+  const Result rendered = run_cli("render --scene " + scene.string() + " --strategy path_mis --spp 1 --output " +
+                                  (dir_ / "white.exr").string());
+  EXPECT_EQ(rendered.exit_code, 2) << rendered.output;
+  EXPECT_NE(rendered.output.find("white_enclosure.json"), std::string::npos) << rendered.output;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "white.exr"));
+}
+
 TEST_F(CheckCommand, JsonHoldsTheVerdictAndZmapTheT) {
   const std::string json = (dir_ / "check.json").string(), zmap = (dir_ / "z.exr").string();
   const Result r = run_cli("check --scene " + kDisk + images(kDisk, 8) + " --json " + json + " --zmap " + zmap);
