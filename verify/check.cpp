@@ -1,9 +1,11 @@
 #include "verify/check.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <mutex>
 
 #include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/distributions/non_central_t.hpp>
@@ -66,7 +68,11 @@ double t_test_power(double dof, double critical_t, double lambda) {
 
 }  // namespace
 
-double detectable_noncentrality(double dof, double alpha, double power) {
+namespace {
+
+// detectable_noncentrality's root solve (about 1–10 ms; a check needs a few,
+// and the simulation of its power thousands).
+double solve_detectable_noncentrality(double dof, double alpha, double power) {
   const boost::math::normal_distribution<double> normal;
   if (!std::isfinite(dof))  // z-test: the far tail's share of the power is below 1e-9 at the levels used
     return boost::math::quantile(boost::math::complement(normal, alpha / 2)) +
@@ -88,6 +94,22 @@ double detectable_noncentrality(double dof, double alpha, double power) {
     // |W| < λ/t (Z is negligible next to λ), so power = 2Φ(λ/t) − 1.
     return critical_t * boost::math::quantile(normal, (1 + power) / 2);
   }
+}
+
+}  // namespace
+
+double detectable_noncentrality(double dof, double alpha, double power) {
+  // Memoised: the same few (d.o.f., level) pairs recur in every check of a process.
+  static std::mutex mutex;
+  static std::map<std::array<double, 3>, double> solved;
+  const std::array<double, 3> key = {dof, alpha, power};
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (const auto it = solved.find(key); it != solved.end()) return it->second;
+  }
+  const double lambda = solve_detectable_noncentrality(dof, alpha, power);
+  const std::lock_guard<std::mutex> lock(mutex);
+  return solved.emplace(key, lambda).first->second;
 }
 
 bool has_few_distinct_values(std::vector<double> values) {
