@@ -41,12 +41,15 @@ std::string interval_text(double lo, double hi, End low_end, End high_end) {
 }
 
 // The nearest existing ancestor of `path` (itself if it exists); empty when
-// none can be examined.
+// none can be examined or a relative path's every component is new (the
+// working directory is then the one to examine).
 fs::path nearest_existing(fs::path path) {
   std::error_code ec;
-  while (!path.empty() && !fs::exists(fs::symlink_status(path, ec)) && path.has_parent_path() &&
-         path.parent_path() != path)
-    path = path.parent_path();
+  while (!path.empty() && !fs::exists(fs::symlink_status(path, ec))) {
+    const fs::path parent = path.parent_path();
+    if (parent == path) break;  // a root that does not exist
+    path = parent;
+  }
   return path;
 }
 

@@ -117,6 +117,24 @@ TEST_F(OutputPaths, DirectoryMayBeCreatedUnlessAFileIsInTheWay) {
   EXPECT_THROW(create_output_directory(path("afile/sub"), "--output-dir"), Error);
 }
 
+// A relative name whose every component is new (`--output-dir reports`)
+// is created in the working directory: accepted there, refused where the
+// working directory cannot be written.
+TEST_F(OutputPaths, RelativeNewDirectoryIsCreatedInTheWorkingDirectory) {
+  const std::filesystem::path before = std::filesystem::current_path();
+  std::filesystem::current_path(dir_);
+  EXPECT_TRUE(accepts(output_directory(), "fresh"));
+  EXPECT_TRUE(accepts(output_directory(), "fresh/deeper"));
+  EXPECT_TRUE(accepts(output_file(), "out.exr"));
+  EXPECT_FALSE(accepts(output_directory(), "afile/sub"));
+  std::filesystem::create_directories(dir_ / "locked");
+  std::filesystem::permissions(dir_ / "locked", std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec);
+  std::filesystem::current_path(dir_ / "locked");
+  if (::geteuid() != 0) EXPECT_FALSE(accepts(output_directory(), "fresh"));  // root writes anywhere
+  std::filesystem::current_path(before);
+  std::filesystem::permissions(dir_ / "locked", std::filesystem::perms::owner_all);
+}
+
 TEST(ParseErrorMessage, NamesAnUnknownSubcommandOrListsThem) {
   CLI::App app{"t"};
   app.require_subcommand(1);
