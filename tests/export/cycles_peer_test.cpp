@@ -33,6 +33,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "core/exr.h"
 #include "core/scene.h"
 #include "tests/command.h"
 #include "tests/export/peer_support.h"
@@ -211,6 +212,18 @@ class CyclesPeerGgx : public CyclesPeer, public testing::TestWithParam<std::pair
   void TearDown() override { tear_down(!HasFailure()); }
 };
 
+// What furnace finds in Cycles 3.4's GGX, asserted to keep failing
+// (docs/findings.md): under a sky at oblique view the image is too dark by
+// about 7e-5 (ggx_oblique_sky_60_sep: -7.0e-5, t -8.0 at 2048 spp; the
+// BSDF-only renders of CyclesPeerGgxFinding below show it is the BSDF
+// sampler's). At 128 spp that bias is below the check's resolution, so these
+// scenes render 2048 spp.
+const std::map<std::string, std::string> kKnownCyclesGgxDefects = {
+    {"ggx_oblique_sky_60_sep", "Cycles 3.4's GGX under a sky at cos 0.5 renders about 7e-5 too dark"},
+    {"ggx_oblique_sky_78_sep", "Cycles 3.4's GGX under a sky at cos 0.2 renders about 8e-5 too dark"},
+};
+constexpr int kGgxDefectSpp = 2048;
+
 TEST_P(CyclesPeerGgx, PassesFurnaceCheck) {
   const auto& [name, builtin] = GetParam();
   const fs::path file = peer::derived_ggx_scene(builtin, name, dir_, "separable", std::nullopt);
@@ -218,6 +231,13 @@ TEST_P(CyclesPeerGgx, PassesFurnaceCheck) {
   ASSERT_FALSE(cycles_refusal(scene)) << *cycles_refusal(scene);
   CyclesOptions options;
   options.spp = kSpp;
+  const auto known = kKnownCyclesGgxDefects.find(name);
+  if (known != kKnownCyclesGgxDefects.end()) {
+    std::printf("known Cycles defect, expected to FAIL: %s\n", known->second.c_str());
+    options.spp = kGgxDefectSpp;
+    EXPECT_EQ(render_and_check(name, file, scene, options), 1);
+    return;
+  }
   EXPECT_EQ(render_and_check(name, file, scene, options), 0);
 }
 
@@ -226,6 +246,91 @@ INSTANTIATE_TEST_SUITE_P(Derived, CyclesPeerGgx, testing::ValuesIn(ggx_separable
                            return camel_case(info.param.first);
                          });
 
+#endif
+
+// The findings about Cycles 3.4's GGX (docs/findings.md), each with its
+// asserted outcome, so that a Blender that changes shows up.
+class CyclesPeerGgxFinding : public CyclesPeer, public testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string name = testing::UnitTest::GetInstance()->current_test_info()->name();
+    if (!set_up("GgxFinding" + name)) GTEST_SKIP() << no_blender_message();
+  }
+  void TearDown() override { tear_down(!HasFailure()); }
+
+  // The separable, albedo-1 variant of `builtin` under its sky with the
+  // world not sampled as a light: the BSDF sampler alone carries the sky's
+  // light. K = 16 renders of 8192 spp; returns check's exit code.
+  int bsdf_only(const std::string& builtin) {
+    const std::string name = builtin + "_sep_albedo1";
+    const fs::path file = peer::derived_ggx_scene(builtin, name, dir_, "separable", 1.0);
+    CyclesOptions options;
+    options.spp = kBsdfOnlySpp;
+    options.world_light_sampling = false;
+    const int code = render_and_check(name + " (BSDF sampling only)", file, load_scene(file), options);
+    std::printf("finding: %s, BSDF sampling only, K=%d spp=%d: image mean %+.3g relative (t %.2f), detectable "
+                "bias %.3g\n",
+                name.c_str(), kRenders, kBsdfOnlySpp, last_.image_mean_relative_error, last_.image_mean_t,
+                last_.detectable_relative_bias);
+    return code;
+  }
+  static constexpr int kBsdfOnlySpp = 8192;
+};
+
+#if FURNACE_PEER_COSTLY_SCENES
+// Label slow (cycles_peer_slow_tests): 8192 spp renders, 19-29 s each.
+// The oblique question: the BSDF sampler alone, at cos θo = 0.5 and 0.2, is
+// measured too dark (-6.8e-5, t -36, and -7.7e-5, t -40; detectable 1.2e-5),
+// the sign and size the approximate Heitz & d'Eon 2014 inverse CDF of Cycles
+// 3.4 predicts (1e-5 to 4e-4).
+TEST_F(CyclesPeerGgxFinding, ObliqueSkyBsdfSamplingIsBiasedAtCos05) { EXPECT_EQ(bsdf_only("ggx_oblique_sky_60"), 1); }
+TEST_F(CyclesPeerGgxFinding, ObliqueSkyBsdfSamplingIsBiasedAtCos02) { EXPECT_EQ(bsdf_only("ggx_oblique_sky_78"), 1); }
+// At normal view the same run finds a bias 8 times smaller and of the other
+// sign (+0.9e-5, t 4.8, detectable 1.2e-5); with world light sampling on,
+// the normal-view scene passes at 2048 spp (t 0.16).
+TEST_F(CyclesPeerGgxFinding, NormalViewSkyBsdfSamplingIsBiasedByAbout1e5) {
+  EXPECT_EQ(bsdf_only("ggx_sky_strips"), 1);
+}
+
+#else
+// Energy conservation: Multiscatter GGX of Color ρ under a constant sky at
+// normal view, the energy-conserving variant of the export, must reflect
+// L = L_env·ρ. Checked against the same scene with Lambertian strips of
+// albedo ρ (the same exact answer), and pixel by pixel: Cycles 3.4 renders
+// every pixel of every render at L_env·ρ to float precision (its random walk
+// gives every BSDF sample the weight ρ), so the deficit is 0, with no spread
+// (furnace check needs a spread across images: it reports identical pixels
+// as bad input, exit 2, when every pixel is constant).
+TEST_F(CyclesPeerGgxFinding, MultiscatterGgxConservesEnergyExactlyUnderAConstantSky) {
+  for (double albedo : {1.0, 0.8}) {
+    const std::string name = fmt::format("ggx_sky_strips_albedo{}", albedo);
+    const fs::path ggx = peer::derived_ggx_scene("ggx_sky_strips", name, dir_, std::nullopt, albedo);
+    const fs::path lambertian =
+        peer::derived_lambertian_scene("ggx_sky_strips", name + "_lambertian", dir_, albedo);
+    const Scene scene = load_scene(ggx);
+    CyclesOptions options;
+    options.spp = 1024;
+    options.energy_conserving_ggx = true;
+    ASSERT_FALSE(cycles_refusal(scene, options)) << *cycles_refusal(scene, options);
+    const int code = render_and_check("energy-conserving GGX " + name, lambertian, scene, options);
+    EXPECT_NE(code, 1) << "furnace check found a deficit";
+    double worst = 0;
+    for (int i = 0; i < kRenders; ++i) {
+      const exr::Image image = exr::read(dir_ / fmt::format("render_{}.exr", kFirstSeed + i), "Cycles render");
+      for (const auto& [channel, values] : image.floats)
+        if (channel == "R" || channel == "G" || channel == "B")
+          for (float v : values) worst = std::max(worst, std::fabs(v / (scene.environment.radiance * albedo) - 1));
+    }
+    std::printf("finding: Multiscatter GGX, Color %g, K=%d spp=%d: largest |pixel / (L_env * albedo) - 1| %.3g\n",
+                albedo, kRenders, options.spp, worst);
+    // Cycles sums the spp samples of a pixel in float: rounding alone moves
+    // the sum by up to spp·2⁻²⁴ relative (6.1e-5 at 1024 spp).
+    EXPECT_LE(worst, options.spp * 0x1p-24);
+  }
+}
+#endif
+
+#if !FURNACE_PEER_COSTLY_SCENES
 class CyclesPeerScript : public CyclesPeer, public testing::Test {
  protected:
   void SetUp() override {
