@@ -390,8 +390,10 @@ std::string ggx_lines(const Scene& scene, const CyclesOptions& options) {
       "# GGX (Blender 3.4.1): distribution GGX is Trowbridge-Reitz with alpha = roughness^2 (clamped to <= 1), no\n"
       "#   Fresnel term, Color multiplying f, and the separable Smith G2 = G1(wo) G1(wi). Measured: the\n"
       "#   separable GGX peer scenes pass; roughness = alpha instead of sqrt(alpha) fails\n"
-      "#   (tests/export/cycles_peer_test.cpp). Reflective caustics stay on and Filter Glossy is 0: either\n"
-      "#   setting changed drops or blurs light reaching the eye through a glossy bounce.\n";
+      "#   (tests/export/cycles_peer_test.cpp). Reflective caustics stay on and Filter Glossy is 0: off,\n"
+      "#   caustics would drop diffuse-to-glossy paths and Filter Glossy would blur glossy bounces after\n"
+      "#   the first (Blender's manual; the GGX scenes' glossy bounce is the camera's first, so they do not\n"
+      "#   exercise either setting).\n";
   if (options.energy_conserving_ggx)
     facts +=
         "# ENERGY-CONSERVING GGX VARIANT (reference only): every GGX surface is Cycles' Multiscatter GGX, which\n"

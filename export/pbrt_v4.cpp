@@ -21,7 +21,7 @@
 // | "float roughness" is α itself with "bool remaproughness" false; true (the default) takes α = √roughness | the GGX peer scenes pass; the same export with remaproughness true fails |
 // | pbrt-v4's GGX is Trowbridge-Reitz D with the height-correlated Smith G2 = 1/(1 + Λ(ωo) + Λ(ωi)) and exact visible-normal sampling (Heitz 2018); no separable form | the height-correlated oblique peer scenes pass at cos θo 0.5 and 0.2; source (TrowbridgeReitzDistribution, util/scattering.h) |
 // | α is clamped to ≥ 1e-4 and a distribution with α < 1e-3 (float) is rendered as a perfect mirror | source (EffectivelySmooth); furnace's α ≥ 1e-3 never reaches it, the export refuses it anyway |
-// | a GGX surface whose light reaches the eye only along its normal (planar, facing the orthographic camera, nothing else reflecting) has equal separable and height-correlated G2 (Λ(n) = 0) | ggx_sky_strips and ggx_disk_occluder (both forms) pass exported with pbrt's height-correlated G2 |
+// | a GGX surface whose light reaches the eye only along its normal (planar, facing the orthographic camera, every other object black or in its plane) has equal separable and height-correlated G2 (Λ(n) = 0) | ggx_sky_strips and ggx_disk_occluder (both forms) pass exported with pbrt's height-correlated G2 |
 // | the independent sampler's numbers depend only on (pixel, seed); a seed in the file overrides `pbrt --seed` | equal seeds give pixel-identical renders, distinct ones differ; source (samplers.cpp) |
 #include "export/pbrt_v4.h"
 
@@ -253,24 +253,27 @@ std::string header(const Scene& scene, const PbrtV4Options& options) {
         "#   reflects), so this export is exact.\n",
         comment_text(o.name), o.material.albedo, o.material.albedo);
   }
+  std::string ggx;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const Object& o = scene.objects[i];
     if (o.material.type != BsdfType::kGgx || !reflects(o.material)) continue;
-    const bool separable = o.material.shadowing == MicrofacetShadowing::kSeparable;
-    text += fmt::format(
-        "# - The GGX object '{}' (alpha {}, shadowing {}) is a rough conductor with \"spectrum eta\" [300 0 900 0]\n"
-        "#   and \"spectrum k\" [300 1 900 1]: eta + ik = i reflects both polarisations fully at every angle, so\n"
-        "#   F = 1 exactly (the scene's albedo is 1; \"rgb reflectance\" [1 1 1] would leave 1 - F up to 5e-3).\n"
-        "#   \"bool remaproughness\" false makes \"roughness\" alpha itself (left true, pbrt takes alpha =\n"
-        "#   sqrt(roughness)); pbrt's Trowbridge-Reitz D, its height-correlated Smith G2 and its exact\n"
-        "#   visible-normal sampler (Heitz 2018) are furnace's. Measured: the GGX peer scenes pass, the\n"
-        "#   remaproughness-true and albedo-0.99 controls fail (tests/export/pbrt_peer_test.cpp).\n",
-        comment_text(o.name), o.material.ggx_alpha, microfacet_shadowing_name(o.material.shadowing));
-    if (separable)
-      text += "#   The scene asks for the separable form; light leaves this surface towards the eye only along\n"
-              "#   its normal (it faces the orthographic camera and nothing else reflects), where the two forms\n"
-              "#   are equal (Lambda(n) = 0), so pbrt's height-correlated G2 is exact here.\n";
+    ggx += fmt::format("#   '{}' (alpha {}, shadowing {}): \"float roughness\" {}.\n", comment_text(o.name),
+                       o.material.ggx_alpha, microfacet_shadowing_name(o.material.shadowing), num(o.material.ggx_alpha));
+    if (o.material.shadowing == MicrofacetShadowing::kSeparable)
+      ggx += "#     The scene asks for the separable form: light leaves this surface towards the eye only along\n"
+             "#     its normal (it faces the orthographic camera; every other object is black or in its plane),\n"
+             "#     where the two forms are equal (Lambda(n) = 0), so pbrt's height-correlated G2 is exact here.\n";
   }
+  if (!ggx.empty())
+    text +=
+        "# - GGX objects are rough conductors with \"spectrum eta\" [300 0 900 0] and \"spectrum k\" [300 1 900 1]:\n"
+        "#   eta + ik = i reflects both polarisations fully at every angle, so F = 1 exactly (every GGX albedo\n"
+        "#   here is 1; \"rgb reflectance\" [1 1 1] would leave 1 - F up to 5e-3). \"bool remaproughness\" false\n"
+        "#   makes \"roughness\" alpha itself (left true, pbrt takes alpha = sqrt(roughness)). pbrt's\n"
+        "#   Trowbridge-Reitz D, height-correlated Smith G2 and exact visible-normal sampler (Heitz 2018) are\n"
+        "#   furnace's. Measured: the GGX peer scenes pass; remaproughness true and albedo 0.99 for 1 fail\n"
+        "#   (tests/export/pbrt_peer_test.cpp).\n" +
+        ggx;
   return text + "\n";
 }
 

@@ -754,6 +754,31 @@ TEST_F(CyclesExportFile, TheBuilderMakesEachMaterialsNodeGraphAsTheSceneStatesIt
   std::printf("%d material graphs compared (%d one-sided emitters)\n", graphs, one_sided);
 }
 
+// The diagnostic and reference-only options reach the builder: Multiscatter
+// GGX of roughness √α and Color ρ, the world not sampled as a light. Control:
+// the plain export of the same scene builds GGX and samples the world.
+TEST_F(CyclesExportFile, TheBuilderMakesMultiscatterGgxAndAnUnsampledWorldWhenAsked) {
+  if (testing_support::run_command("python3 -c pass 2>&1").exit_code != 0) GTEST_SKIP() << "skipped: no python3";
+  const Scene scene = builtin("ggx_sky_strips");
+  CyclesOptions variant;
+  variant.energy_conserving_ggx = true;
+  variant.world_light_sampling = false;
+  for (const bool plain : {false, true}) {
+    const fs::path script = dir_ / (plain ? "plain.py" : "variant.py");
+    write_cycles(scene, plain ? CyclesOptions{} : variant, script);
+    const auto r = testing_support::run_command("python3 '" + std::string(FURNACE_CYCLES_NODE_GRAPH_PY) + "' '" +
+                                                script.string() + "' 2>&1");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const nlohmann::json actual = nlohmann::json::parse(r.output.substr(r.output.find("\n{") + 1));
+    for (const Object& o : scene.objects)
+      EXPECT_EQ(actual["materials"][o.name],
+                nlohmann::json::array({"Glossy", plain ? "GGX" : "MULTI_GGX", o.material.albedo,
+                                       std::sqrt(o.material.ggx_alpha)}))
+          << o.name;
+    EXPECT_EQ(actual["world_sampling"], plain ? "AUTOMATIC" : "NONE");
+  }
+}
+
 using CliResult = testing_support::CommandResult;
 
 CliResult run_cli(const std::string& args) {

@@ -33,6 +33,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "analytic/global.h"
 #include "core/exr.h"
 #include "core/scene.h"
 #include "tests/command.h"
@@ -267,12 +268,46 @@ class CyclesPeerGgxFinding : public CyclesPeer, public testing::Test {
     CyclesOptions options;
     options.spp = kBsdfOnlySpp;
     options.world_light_sampling = false;
-    const int code = render_and_check(name + " (BSDF sampling only)", file, load_scene(file), options);
+    const Scene scene = load_scene(file);
+    const int code = render_and_check(name + " (BSDF sampling only)", file, scene, options);
     std::printf("finding: %s, BSDF sampling only, K=%d spp=%d: image mean %+.3g relative (t %.2f), detectable "
                 "bias %.3g\n",
                 name.c_str(), kRenders, kBsdfOnlySpp, last_.image_mean_relative_error, last_.image_mean_t,
                 last_.detectable_relative_bias);
+    print_per_strip(scene);
     return code;
+  }
+
+  // Each strip's relative error and its t over the K renders: the scenes'
+  // GGX strips are equal vertical bands across the image, left to right in
+  // the order of the scene's objects (image right is +x in all three).
+  void print_per_strip(const Scene& scene) {
+    const std::vector<double> reference = analytic::global_reference_image(scene, kUnlimitedDepth);
+    const int width = scene.camera.width_px, height = scene.camera.height_px;
+    const int strips = int(scene.objects.size());
+    std::vector<std::vector<double>> ratio(strips);  // per strip, per render: mean(image) / mean(reference)
+    for (int i = 0; i < kRenders; ++i) {
+      const exr::Image image = exr::read(dir_ / fmt::format("render_{}.exr", kFirstSeed + i), "Cycles render");
+      std::vector<double> sum(strips, 0), ref(strips, 0);
+      for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+          const size_t p = size_t(y) * width + x;
+          const int k = x * strips / width;
+          sum[k] += (double(image.floats.at("R")[p]) + image.floats.at("G")[p] + image.floats.at("B")[p]) / 3;
+          ref[k] += reference[p];
+        }
+      for (int k = 0; k < strips; ++k) ratio[k].push_back(sum[k] / ref[k]);
+    }
+    for (int k = 0; k < strips; ++k) {
+      double mean = 0, var = 0;
+      for (double r : ratio[k]) mean += r / kRenders;
+      for (double r : ratio[k]) var += (r - mean) * (r - mean) / (kRenders - 1);
+      const double se = std::sqrt(var / kRenders);
+      const Material& m = scene.objects[k].material;
+      std::printf("finding: strip '%s' (alpha %g, %s): relative error %+.3g, t %.1f\n",
+                  scene.objects[k].name.c_str(), m.ggx_alpha, microfacet_shadowing_name(m.shadowing), mean - 1,
+                  se > 0 ? (mean - 1) / se : 0.0);
+    }
   }
   static constexpr int kBsdfOnlySpp = 8192;
 };

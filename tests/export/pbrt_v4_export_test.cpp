@@ -215,7 +215,7 @@ TEST(PbrtV4Export, GgxIsAConductorWithFresnelOneAndAlphaUnremapped) {
                 contains(text, "\"float roughness\" 0.5 \"bool remaproughness\" false"))
         << name;
     EXPECT_TRUE(contains(text, "F = 1 exactly")) << text.substr(0, 4000);
-    EXPECT_TRUE(contains(text, "(left true, pbrt takes alpha =\n#   sqrt(roughness))")) << text.substr(0, 4000);
+    EXPECT_TRUE(contains(text, "(left true, pbrt takes alpha = sqrt(roughness))")) << text.substr(0, 4000);
   }
 }
 
@@ -254,8 +254,12 @@ TEST(PbrtV4Export, GgxSeparableAtNormalViewIsWrittenAndTheFileSaysWhyItIsExact) 
   const Scene scene = ggx_variant("ggx_sky_strips", 1);  // separable and height-correlated strips
   ASSERT_FALSE(pbrt_v4_refusal(scene)) << refusal_of(scene);
   const std::string text = export_pbrt_v4(scene, {});
-  EXPECT_TRUE(contains(text, "# - The GGX object 'ggx_a0.5' (alpha 0.5, shadowing separable)")) << text;
-  EXPECT_TRUE(contains(text, "where the two forms\n#   are equal (Lambda(n) = 0)")) << text;
+  EXPECT_TRUE(contains(text, "#   'ggx_a0.5' (alpha 0.5, shadowing separable): \"float roughness\" 0.5.\n"
+                             "#     The scene asks for the separable form")) << text;
+  EXPECT_TRUE(contains(text, "#     where the two forms are equal (Lambda(n) = 0)")) << text;
+  // The height-correlated strips get no such note.
+  EXPECT_TRUE(contains(text, "#   'ggx_a1' (alpha 1, shadowing height_correlated): \"float roughness\" 1.\n#   'ggx_a0.5'"))
+      << text;
 }
 
 TEST(PbrtV4ExportDeathTest, AMaterialTypeNoCaseHandlesIsAnInternalErrorNotADiffuseSurface) {
