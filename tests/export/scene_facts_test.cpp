@@ -61,6 +61,14 @@ TEST(ExportSceneFacts, SeenOnlyAlongTheNormalNeedsAPlanarSurfaceFacingTheCameraA
   // Within the tolerance: 1e-5 rad (1 − cos = 5e-11).
   strips.camera.forward = normalize(Vec3{0, 1e-5, -1});
   EXPECT_FALSE(not_seen_only_along_normal(strips, 0));
+  // The strips all reflect but share one plane: none sees another. Lift
+  // one strip by 0.01 and the others' oblique light can reach it.
+  Scene lifted = builtin("ggx_sky_strips");
+  std::get<Rectangle>(lifted.objects[4].shape).corner.z = 0.01;
+  const auto raised = not_seen_only_along_normal(lifted, 0);
+  ASSERT_TRUE(raised);
+  EXPECT_TRUE(contains(*raised, "the object 'ggx_a0.05' reflects light that leaves 'ggx_a1'")) << *raised;
+  EXPECT_TRUE(not_seen_only_along_normal(lifted, 4));
   // The disk scene: the black occluder reflects nothing; once it does, the
   // receivers' oblique light comes back.
   Scene disk = builtin("ggx_disk_occluder");
