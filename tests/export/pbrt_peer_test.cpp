@@ -260,6 +260,26 @@ TEST_P(PbrtPeerGgx, PassesFurnaceCheck) {
 INSTANTIATE_TEST_SUITE_P(Derived, PbrtPeerGgx, testing::ValuesIn(ggx_peer_scenes()),
                          [](const testing::TestParamInfo<GgxPeerScene>& info) { return camel_case(info.param.name); });
 
+class PbrtPeerGgxSmooth : public PbrtPeer, public testing::Test {
+ protected:
+  void SetUp() override {
+    if (!set_up("GgxSmooth")) GTEST_SKIP() << no_pbrt_message();
+  }
+  void TearDown() override { tear_down(!HasFailure()); }
+};
+
+// The near-specular end of furnace's α range, down to its lower limit 1e-3
+// (pbrt renders α < 1e-3 as a mirror; NaNs near roughness 0 were pbrt-v4
+// #283): ggx_sky_strips with α 0.001, 0.002, 0.005, 0.01, 0.02, albedo 1.
+TEST_F(PbrtPeerGgxSmooth, NearSpecularStripsPassFurnaceCheck) {
+  const fs::path file = peer::derived_strips_with_alphas({0.001, 0.002, 0.005, 0.01, 0.02}, "ggx_sky_strips_smooth", dir_);
+  const Scene scene = load_scene(file);
+  ASSERT_FALSE(pbrt_v4_refusal(scene)) << *pbrt_v4_refusal(scene);
+  PbrtV4Options options;
+  options.spp = kSpp;
+  EXPECT_EQ(render_and_check("ggx_sky_strips_smooth", file, scene, options, false), 0);
+}
+
 class PbrtPeerGgxControl : public PbrtPeer, public testing::Test {
  protected:
   void SetUp() override {

@@ -230,6 +230,17 @@ TEST(PbrtV4Export, GgxRefusesAnAlbedoOtherThanOneNamingTheObject) {
   EXPECT_FALSE(pbrt_v4_refusal(ggx_variant("ggx_sky_strips", 1)));
 }
 
+// furnace's scene files stop at α = 1e-3, pbrt's mirror threshold; a Scene
+// built in memory below it is refused, and 1e-3 itself is written.
+TEST(PbrtV4Export, GgxRefusesAnAlphaPbrtWouldRenderAsAMirror) {
+  Scene scene = ggx_variant("ggx_sky_strips", 1);
+  scene.objects[4].material.ggx_alpha = 1e-3;
+  EXPECT_FALSE(pbrt_v4_refusal(scene)) << refusal_of(scene);
+  scene.objects[4].material.ggx_alpha = 9.9e-4;
+  const std::string reason = refusal_of(scene);
+  EXPECT_TRUE(contains(reason, "'ggx_a0.05'") && contains(reason, "as a perfect mirror")) << reason;
+}
+
 TEST(PbrtV4Export, GgxRefusesTheSeparableFormWhereItDiffersFromPbrtsHeightCorrelatedOne) {
   // Oblique view: the separable strips are refused, the height-correlated ones are not.
   const Scene oblique = ggx_variant("ggx_oblique_sky_60", 1);

@@ -160,6 +160,25 @@ inline fs::path derived_ggx_scene(const std::string& builtin, const std::string&
   return out;
 }
 
+// ggx_sky_strips with its five strips' α set to `alphas` (left to right)
+// and albedo 1, written as `dir`/<name>.json: the near-specular end of
+// furnace's α range under the sky at normal view.
+inline fs::path derived_strips_with_alphas(const std::vector<double>& alphas, const std::string& name,
+                                           const fs::path& dir) {
+  std::ifstream in(scene_file("ggx_sky_strips"));
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["name"] = name;
+  if (j["objects"].size() != alphas.size()) throw std::runtime_error("ggx_sky_strips has another number of strips");
+  for (size_t i = 0; i < alphas.size(); ++i) {
+    j["objects"][i]["material"]["alpha"] = alphas[i];
+    j["objects"][i]["material"]["albedo"] = 1.0;
+    j["objects"][i]["name"] = fmt::format("ggx_a{}", alphas[i]);
+  }
+  const fs::path out = dir / (name + ".json");
+  std::ofstream(out) << j.dump(2) << "\n";
+  return out;
+}
+
 // A built-in GGX scene with every GGX material replaced by a Lambertian one
 // of albedo `albedo`, written as `dir`/<name>.json: where each surface sees
 // a constant sky alone, its exact answer L_env·albedo is also that of any
