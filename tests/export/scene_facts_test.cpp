@@ -87,7 +87,7 @@ TEST(ExportSceneFacts, SeenOnlyAlongTheNormalNeedsAPlanarSurfaceFacingTheCameraA
 }
 
 TEST(ExportSceneFacts, EveryTypeReflectsExactlyWhenItsAlbedoIsPositive) {
-  for (const BsdfType type : {BsdfType::kLambertian, BsdfType::kMirror, BsdfType::kPhong}) {
+  for (const BsdfType type : {BsdfType::kLambertian, BsdfType::kMirror, BsdfType::kPhong, BsdfType::kGgx}) {
     EXPECT_TRUE(reflects(Material{type, 0.5, 10})) << bsdf_type_name(type);
     EXPECT_TRUE(reflects(Material{type, 1e-300, 10})) << bsdf_type_name(type);
     EXPECT_FALSE(reflects(Material{type, 0, 10})) << bsdf_type_name(type);
