@@ -56,6 +56,18 @@ struct CyclesOptions {
   int max_segments = kUnlimitedDepth;  // furnace's depth convention, >= 2
   int sphere_subdivisions = kCyclesSphereSubdivisions;  // in [0, 7]
   int emitter_grid = kCyclesEmitterGrid;                // in [1, 256]
+  // Diagnostics and reference-only variants, off in a plain export:
+  //  - world_light_sampling false: the world is not sampled as a light
+  //    (world.cycles.sampling_method NONE), so the BSDF sampler alone carries
+  //    the environment's light; the rendered radiance is the same.
+  //  - energy_conserving_ggx: every GGX surface as Cycles' Multiscatter GGX
+  //    (Heitz et al. 2016's random walk), which is not the BSDF furnace
+  //    models: furnace has no reference for it, except where each surface
+  //    sees a constant sky alone (energy_conserving_ggx_refusal()), where an
+  //    energy-conserving BSDF of albedo ρ reflects L = L_env·ρ, the radiance
+  //    of the same scene with each GGX surface Lambertian of albedo ρ.
+  bool world_light_sampling = true;
+  bool energy_conserving_ggx = false;
 };
 // Blender's largest max_bounces; the export's "unlimited".
 inline constexpr int kCyclesMaxBounces = 1024;
@@ -84,7 +96,14 @@ CyclesMesh cycles_mesh(const Object& object, const CyclesOptions& options = {});
 // sentence naming the scene, the object and its field (e.g.
 // objects[0].material.type "phong") or the feature. Every material type is
 // decided explicitly: written, or refused with its reason.
-std::optional<std::string> cycles_refusal(const Scene& scene);
+std::optional<std::string> cycles_refusal(const Scene& scene, const CyclesOptions& options = {});
+
+// Why `scene` is no scene whose energy-conserving-GGX render has a known
+// answer, L = L_env·ρ at every pixel; empty when it is: a constant
+// environment, no other light, and only reflecting GGX surfaces, each seen
+// only along its normal and seeing nothing but the sky (export/scene_facts.h,
+// not_seen_only_along_normal()).
+std::optional<std::string> energy_conserving_ggx_refusal(const Scene& scene);
 
 // The scene as a Blender Python script, opening with comments that state the
 // facts it relies on and each shape's tessellation error. Throws

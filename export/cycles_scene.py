@@ -4,8 +4,12 @@
 # reads, decided by the exporter (no material or shape is decided here):
 #   SCENE     {'name', 'spp', 'resolution': (x, y), 'pixel_aspect': (x, y),
 #              'camera': {'matrix', 'ortho_scale', 'sensor_fit', 'clip_start', 'clip_end'},
-#              'environment': radiance, 'max_bounces',
-#              'objects': [{'name', 'albedo', 'mirror': Glossy SHARP if True else Diffuse,
+#              'environment': radiance, 'world_light_sampling': False turns off sampling the world
+#              as a light, 'max_bounces',
+#              'objects': [{'name', 'albedo', 'mirror': Glossy SHARP if True,
+#                           'ggx': None, or (distribution, roughness) for a Glossy BSDF of that
+#                                  distribution ('GGX' or 'MULTI_GGX') and roughness,
+#                           else Diffuse,
 #                           'emission', 'two_sided', 'vertices', 'triangles'}]}
 #   FILTER    (Cycles' pixel filter type, its width in pixels)
 #   SEED_MAX, SPP_MAX   Blender's limits of scene.cycles.seed and .samples
@@ -78,6 +82,10 @@ def material(o):
         if o['mirror']:
             bsdf = nodes.new('ShaderNodeBsdfGlossy')
             bsdf.distribution = 'SHARP'
+        elif o['ggx'] is not None:
+            bsdf = nodes.new('ShaderNodeBsdfGlossy')
+            bsdf.distribution = o['ggx'][0]
+            bsdf.inputs['Roughness'].default_value = o['ggx'][1]
         else:
             bsdf = nodes.new('ShaderNodeBsdfDiffuse')
             bsdf.inputs['Roughness'].default_value = 0.0
@@ -120,6 +128,7 @@ def build(spp, threads):
     background = world.node_tree.nodes['Background']
     background.inputs['Color'].default_value = (1.0, 1.0, 1.0, 1.0)
     background.inputs['Strength'].default_value = SCENE['environment']
+    world.cycles.sampling_method = 'AUTOMATIC' if SCENE['world_light_sampling'] else 'NONE'
     scene.world = world
 
     c = SCENE['camera']

@@ -17,6 +17,11 @@
 // | no per-object camera visibility: the camera sees every shape, as furnace's camera does | same camera placement as furnace |
 // | a conductor with "reflectance" r and roughness 0 is a smooth mirror whose Fresnel reflectance is r at normal incidence only (eta 1, k = 2√r/√(1−r), r clamped to 0.9999) | source (materials.h); mirror_disk passes |
 // | environment maps only as equal-area octahedral square images | documentation |
+// | a conductor with "spectrum eta" [300 0 900 0] and "spectrum k" [300 1 900 1] reflects F ≡ 1 at every angle and wavelength (η + ik = i: \|r∥\| = \|r⊥\| = 1 in its complex Fresnel); "rgb reflectance" [1 1 1] leaves 1 − F between 1e-4 and 5e-3 | the GGX peer scenes (albedo 1) pass; the albedo-0.99 control fails; source (FrComplex, util/scattering.h) |
+// | "float roughness" is α itself with "bool remaproughness" false; true (the default) takes α = √roughness | the GGX peer scenes pass; the same export with remaproughness true fails |
+// | pbrt-v4's GGX is Trowbridge-Reitz D with the height-correlated Smith G2 = 1/(1 + Λ(ωo) + Λ(ωi)) and exact visible-normal sampling (Heitz 2018); no separable form | the height-correlated oblique peer scenes pass at cos θo 0.5 and 0.2; source (TrowbridgeReitzDistribution, util/scattering.h) |
+// | α is clamped to ≥ 1e-4 and a distribution with α < 1e-3 (float) is rendered as a perfect mirror | source (EffectivelySmooth); furnace's α ≥ 1e-3 never reaches it, the export refuses it anyway |
+// | a GGX surface whose light reaches the eye only along its normal (planar, facing the orthographic camera, every other object black or in its plane) has equal separable and height-correlated G2 (Λ(n) = 0) | ggx_sky_strips and ggx_disk_occluder (both forms) pass exported with pbrt's height-correlated G2 |
 // | the independent sampler's numbers depend only on (pixel, seed); a seed in the file overrides `pbrt --seed` | equal seeds give pixel-identical renders, distinct ones differ; source (samplers.cpp) |
 #include "export/pbrt_v4.h"
 
@@ -42,6 +47,10 @@ namespace {
 constexpr double kMirrorNormalIncidenceTolerance = 1e-9;
 // pbrt clamps a conductor's "reflectance" to this value.
 constexpr double kPbrtMaxConductorReflectance = 0.9999;
+// pbrt-v4 treats a Trowbridge-Reitz distribution with max(αx, αy) < 1e-3
+// (in float) as effectively smooth: a perfect specular conductor
+// (TrowbridgeReitzDistribution::EffectivelySmooth, util/scattering.h).
+constexpr float kPbrtMinRoughAlpha = 1e-3f;
 
 std::string point(const Vec3& p) { return fmt::format("{} {} {}", num(p.x), num(p.y), num(p.z)); }
 std::string constant_spectrum(double value) { return fmt::format("[300 {0} 900 {0}]", value); }
@@ -88,6 +97,38 @@ PbrtMaterial diffuse(double albedo) {
 }
 PbrtMaterial refused(std::string reason) { return {"", std::move(reason)}; }
 
+// A GGX surface as pbrt-v4's rough conductor with F ≡ 1 (η + ik = i: both
+// polarisations reflect fully at every angle), α written as itself
+// (remaproughness false). pbrt-v4 implements the height-correlated Smith
+// form only, and its conductor has no constant factor on f.
+PbrtMaterial ggx_conductor(const Scene& scene, size_t index) {
+  const Material& m = scene.objects[index].material;
+  const std::string what = object_material_text(scene, index);
+  if (m.albedo != 1)
+    return refused(fmt::format("the GGX object {} has albedo {}, and pbrt-v4's conductor has no constant factor "
+                               "on its reflection (the export writes F ≡ 1, exact for albedo 1 only)",
+                               what, m.albedo));
+  if (static_cast<float>(m.ggx_alpha) < kPbrtMinRoughAlpha)
+    return refused(fmt::format("the GGX object {} has alpha {}, and pbrt-v4 renders a conductor with alpha below "
+                               "{} as a perfect mirror",
+                               what, m.ggx_alpha, kPbrtMinRoughAlpha));
+  switch (m.shadowing) {
+    case MicrofacetShadowing::kHeightCorrelated:
+      break;
+    case MicrofacetShadowing::kSeparable:
+      // The forms agree where every path leaves the surface along its normal.
+      if (auto reason = not_seen_only_along_normal(scene, index))
+        return refused(fmt::format("the GGX object {} uses the separable Smith form, which pbrt-v4 does not "
+                                   "implement (its G2 is height-correlated), and the forms differ here: {}",
+                                   what, *reason));
+      break;
+  }
+  return {fmt::format("Material \"conductor\" \"spectrum eta\" [300 0 900 0] \"spectrum k\" [300 1 900 1] "
+                      "\"float roughness\" {} \"bool remaproughness\" false\n",
+                      num(m.ggx_alpha)),
+          std::nullopt};
+}
+
 PbrtMaterial pbrt_material(const Scene& scene, size_t index) {
   const Material& m = scene.objects[index].material;
   // Black, whatever the type (reflects() decides it per type): a black
@@ -110,9 +151,7 @@ PbrtMaterial pbrt_material(const Scene& scene, size_t index) {
       return refused(fmt::format("the object {} has a normalised Phong BSDF, which pbrt-v4 does not have",
                                  object_material_text(scene, index)));
     case BsdfType::kGgx:
-      return refused(fmt::format("the object {} has a GGX BSDF, whose export to pbrt-v4 (conductor with F ≡ 1, "
-                                 "roughness remapping, Smith form) is not yet written",
-                                 object_material_text(scene, index)));
+      return ggx_conductor(scene, index);
   }
   unknown_bsdf_type(m.type);
 }
@@ -214,6 +253,27 @@ std::string header(const Scene& scene, const PbrtV4Options& options) {
         "#   reflects), so this export is exact.\n",
         comment_text(o.name), o.material.albedo, o.material.albedo);
   }
+  std::string ggx;
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const Object& o = scene.objects[i];
+    if (o.material.type != BsdfType::kGgx || !reflects(o.material)) continue;
+    ggx += fmt::format("#   '{}' (alpha {}, shadowing {}): \"float roughness\" {}.\n", comment_text(o.name),
+                       o.material.ggx_alpha, microfacet_shadowing_name(o.material.shadowing), num(o.material.ggx_alpha));
+    if (o.material.shadowing == MicrofacetShadowing::kSeparable)
+      ggx += "#     The scene asks for the separable form: light leaves this surface towards the eye only along\n"
+             "#     its normal (it faces the orthographic camera; every other object is black or in its plane),\n"
+             "#     where the two forms are equal (Lambda(n) = 0), so pbrt's height-correlated G2 is exact here.\n";
+  }
+  if (!ggx.empty())
+    text +=
+        "# - GGX objects are rough conductors with \"spectrum eta\" [300 0 900 0] and \"spectrum k\" [300 1 900 1]:\n"
+        "#   eta + ik = i reflects both polarisations fully at every angle, so F = 1 exactly (every GGX albedo\n"
+        "#   here is 1; \"rgb reflectance\" [1 1 1] would leave 1 - F up to 5e-3). \"bool remaproughness\" false\n"
+        "#   makes \"roughness\" alpha itself (left true, pbrt takes alpha = sqrt(roughness)). pbrt's\n"
+        "#   Trowbridge-Reitz D, height-correlated Smith G2 and exact visible-normal sampler (Heitz 2018) are\n"
+        "#   furnace's. Measured: the GGX peer scenes pass; remaproughness true and albedo 0.99 for 1 fail\n"
+        "#   (tests/export/pbrt_peer_test.cpp).\n" +
+        ggx;
   return text + "\n";
 }
 

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 
 #include "core/scene.h"
@@ -16,8 +17,28 @@
 namespace furnace::exporter {
 
 // An object's material as its scene file states it, for refusal sentences:
-// 'receiver' (objects[0].material.type "phong", albedo 0.5).
+// 'receiver' (objects[0].material.type "phong", albedo 0.5); a GGX material
+// adds its roughness and Smith form: 'strip' (objects[1].material.type
+// "ggx", albedo 0.8, alpha 0.3, shadowing "separable").
 std::string object_material_text(const Scene& scene, size_t index);
+
+// Why light can leave the object scene.objects[index] towards the eye along a
+// direction other than its normal; empty when it cannot. It cannot when the
+// object is planar, faces along the camera's forward direction (furnace's
+// camera is orthographic, so every camera ray meets it along its normal, to
+// within 1 − |cos| ≤ kNormalViewTolerance) and every other object either
+// reflects nothing (reflects() false) or lies in its plane (where light
+// leaving it never arrives), so the only paths that leave it and reach the
+// eye are camera rays. There the two Smith forms of a microfacet BSDF agree
+// exactly (Λ(n) = 0), so an exporter may write one for the other. Confirmed
+// by rendering: ggx_sky_strips and ggx_disk_occluder, whose strips alternate
+// the forms, pass `furnace check` in pbrt-v4 (height-correlated only) and in
+// Cycles 3.4 (separable only), K = 16 (docs/checking_pbrt.md,
+// docs/checking_cycles.md); at oblique view the other form fails (10 % off).
+std::optional<std::string> not_seen_only_along_normal(const Scene& scene, size_t index);
+// 1 − |cos θ| ≤ 1e-9 keeps θ below 4.5e-5 rad, where Λ(ω) ≈ α² tan²θ / 4 is
+// below 5e-10: far below any Monte Carlo test's resolution.
+inline constexpr double kNormalViewTolerance = 1e-9;
 
 // Whether the material reflects any light. Every current type scales its
 // whole reflection by material.albedo (Lambertian ρ/π, a mirror's ρ·δ,

@@ -23,6 +23,7 @@
 #include <tuple>
 #include <vector>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "analytic/polygon.h"
@@ -60,7 +61,7 @@ TEST(CyclesExport, RefusesExactlyImageEnvironmentsPointLightsAndGlossyScenesAmon
   }
   EXPECT_EQ(refused, (std::set<std::string>{"environment_map", "environment_map_tilted", "glossy_environment",
                                             "glossy_sphere_light", "point_light", "point_light_unoccluded",
-                                            "point_and_area", "ggx_sky_strips", "ggx_disk_occluder", "ggx_oblique_sky_60", "ggx_oblique_sky_78",
+                                            "point_and_area", "ggx_oblique_sky_60", "ggx_oblique_sky_78",
                                             "ggx_oblique_sphere_60", "ggx_oblique_sphere_78"}));
 }
 
@@ -98,13 +99,16 @@ TEST(CyclesExport, PhongRefusalNamesSceneObjectFieldAndValue) {
 }
 
 // How the script must describe a material to its builder (cycles_scene.py:
-// 'mirror' True is a Glossy SHARP BSDF, False a Diffuse one, both of colour
-// 'albedo'), stated here independently of the exporter; empty when refused.
-// One case per BsdfType and no default: a new type fails this test's build
-// (-Werror=switch) until the test says what the export must do with it.
+// 'mirror' True is a Glossy SHARP BSDF; 'ggx' (distribution, roughness) a
+// Glossy BSDF of that distribution and roughness; else a Diffuse one; all
+// of colour 'albedo'), stated here independently of the exporter; empty
+// when refused. One case per BsdfType and no default: a new type fails this
+// test's build (-Werror=switch) until the test says what the export must do
+// with it.
 struct ScriptMaterial {
   double albedo;
   bool mirror;
+  std::string ggx = "None";  // the script's 'ggx' value, e.g. ('GGX', 0.5)
 };
 std::optional<ScriptMaterial> expected_material(const Object& o) {
   switch (o.material.type) {
@@ -115,19 +119,21 @@ std::optional<ScriptMaterial> expected_material(const Object& o) {
       if (!is_planar(o.shape)) return std::nullopt;
       return ScriptMaterial{o.material.albedo, true};
     case BsdfType::kPhong:
-    case BsdfType::kGgx:
       if (o.material.albedo == 0) return ScriptMaterial{0, false};  // a black glossy surface is black
       return std::nullopt;
+    case BsdfType::kGgx:  // roughness √α; a height-correlated surface only where the forms agree (else refused)
+      if (o.material.albedo == 0) return ScriptMaterial{0, false};
+      return ScriptMaterial{o.material.albedo, false, fmt::format("('GGX', {})", std::sqrt(o.material.ggx_alpha))};
   }
   return std::nullopt;
 }
 
-// Each object's name, albedo and mirror flag in the script's SCENE data, in order.
-std::vector<std::tuple<std::string, double, bool>> script_materials(const std::string& text) {
-  std::vector<std::tuple<std::string, double, bool>> materials;
-  const std::regex entry(R"(\{'name': '([^']*)', 'albedo': ([^,]+), 'mirror': (True|False),)");
+// Each object's name, albedo, mirror flag and 'ggx' value in the script's SCENE data, in order.
+std::vector<std::tuple<std::string, double, bool, std::string>> script_materials(const std::string& text) {
+  std::vector<std::tuple<std::string, double, bool, std::string>> materials;
+  const std::regex entry(R"(\{'name': '([^']*)', 'albedo': ([^,]+), 'mirror': (True|False), 'ggx': (None|\('[A-Z_]+', [^)]+\)),)");
   for (auto it = std::sregex_iterator(text.begin(), text.end(), entry); it != std::sregex_iterator(); ++it)
-    materials.emplace_back((*it)[1].str(), std::stod((*it)[2].str()), (*it)[3].str() == "True");
+    materials.emplace_back((*it)[1].str(), std::stod((*it)[2].str()), (*it)[3].str() == "True", (*it)[4].str());
   return materials;
 }
 
@@ -149,6 +155,7 @@ TEST(CyclesExport, EveryMaterialOfTheBuiltInScenesIsExportedAsItselfOrRefusedNam
       EXPECT_EQ(std::get<0>(materials[i]), o.name) << scene.name;
       EXPECT_EQ(std::get<1>(materials[i]), expected->albedo) << scene.name << ": " << o.name;
       EXPECT_EQ(std::get<2>(materials[i]), expected->mirror) << scene.name << ": " << o.name;
+      EXPECT_EQ(std::get<3>(materials[i]), expected->ggx) << scene.name << ": " << o.name;
       coverage.count_written(o);
     }
   }
@@ -172,6 +179,75 @@ TEST(CyclesExportDeathTest, AMaterialTypeNoCaseHandlesIsAnInternalErrorNotADiffu
   Scene scene = builtin("disk_occluder");
   scene.objects[0].material = {static_cast<BsdfType>(7), 0.5, 0};
   EXPECT_DEATH(export_cycles(scene, {}), "BsdfType value 7 is no enumerator of BsdfType");
+}
+
+// A built-in GGX scene with every GGX object's Smith form replaced.
+Scene ggx_form(const std::string& name, MicrofacetShadowing shadowing) {
+  Scene scene = builtin(name);
+  for (Object& o : scene.objects)
+    if (o.material.type == BsdfType::kGgx) o.material.shadowing = shadowing;
+  return scene;
+}
+
+TEST(CyclesExport, GgxIsGlossyGgxOfRoughnessSqrtAlphaAndColourAlbedo) {
+  const std::string text = export_cycles(builtin("ggx_sky_strips"), {});
+  EXPECT_TRUE(contains(text, "'name': 'ggx_a0.5', 'albedo': 0.8, 'mirror': False, 'ggx': ('GGX', 0.7071067811865476),"))
+      << text.substr(0, 6000);
+  EXPECT_TRUE(contains(text, "'name': 'ggx_a0.05', 'albedo': 0.8, 'mirror': False, 'ggx': ('GGX', 0.22360679774997896),"));
+  EXPECT_TRUE(contains(text, "bsdf.distribution = o['ggx'][0]"));
+  EXPECT_TRUE(contains(text, "bsdf.inputs['Roughness'].default_value = o['ggx'][1]"));
+  const std::string header = header_of(text);
+  EXPECT_TRUE(contains(header, "alpha = roughness^2")) << header;
+  EXPECT_TRUE(contains(header, "separable Smith G2")) << header;
+  // ggx_a1 is height-correlated, seen only along its normal: written, and the header says why.
+  EXPECT_TRUE(contains(header, "# - The GGX object 'ggx_a1' (alpha 1, shadowing height_correlated, albedo 0.8)"))
+      << header;
+  EXPECT_TRUE(contains(header, "where it equals Cycles 3.4's separable form")) << header;
+  EXPECT_TRUE(contains(text, "cy.caustics_reflective = True"));
+  EXPECT_TRUE(contains(text, "cy.blur_glossy = 0.0"));
+}
+
+TEST(CyclesExport, GgxRefusesTheHeightCorrelatedFormWhereItDiffersFromCyclesSeparableOne) {
+  const Scene oblique = builtin("ggx_oblique_sky_60");
+  EXPECT_EQ(refusal_of(oblique),
+            "scene 'ggx_oblique_sky_60' (" + oblique.source + ") cannot be exported to Cycles: the GGX object "
+            "'ggx_a1_hc' (objects[1].material.type \"ggx\", albedo 0.8, alpha 1, shadowing \"height_correlated\") "
+            "uses the height-correlated Smith form, which Cycles 3.4 does not implement (its G2 is separable), and "
+            "the forms differ here: 'ggx_a1_hc' is not perpendicular to the camera's forward direction (|cos| 0.5), "
+            "so camera rays leave it at oblique angles.");
+  for (const char* name : {"ggx_oblique_sky_60", "ggx_oblique_sky_78", "ggx_oblique_sphere_60", "ggx_oblique_sphere_78"}) {
+    EXPECT_FALSE(cycles_refusal(ggx_form(name, MicrofacetShadowing::kSeparable))) << name;
+    EXPECT_TRUE(cycles_refusal(ggx_form(name, MicrofacetShadowing::kHeightCorrelated))) << name;
+  }
+}
+
+TEST(CyclesExport, EnergyConservingGgxIsMultiscatterAndOnlyWhereTheAnswerIsLEnvTimesAlbedo) {
+  CyclesOptions variant;
+  variant.energy_conserving_ggx = true;
+  const std::string text = export_cycles(builtin("ggx_sky_strips"), variant);
+  EXPECT_TRUE(contains(text, "'name': 'ggx_a0.5', 'albedo': 0.8, 'mirror': False, 'ggx': ('MULTI_GGX', 0.7071067811865476),"));
+  EXPECT_TRUE(contains(header_of(text), "ENERGY-CONSERVING GGX VARIANT (reference only)")) << header_of(text);
+  EXPECT_FALSE(contains(header_of(export_cycles(builtin("ggx_sky_strips"), {})), "ENERGY-CONSERVING"));
+  // A light other than the sky, an oblique view: refused, with the reason.
+  const std::string lit = cycles_refusal(builtin("ggx_disk_occluder"), variant).value_or("");
+  EXPECT_TRUE(contains(lit, "energy-conserving GGX variant") && contains(lit, "no constant environment")) << lit;
+  const std::string oblique =
+      cycles_refusal(ggx_form("ggx_oblique_sky_60", MicrofacetShadowing::kSeparable), variant).value_or("");
+  EXPECT_TRUE(contains(oblique, "not perpendicular")) << oblique;
+  // A Lambertian object in the scene is no energy-conserving GGX surface.
+  Scene mixed = builtin("ggx_sky_strips");
+  mixed.objects[0].material = {BsdfType::kLambertian, 0.5, 0};
+  EXPECT_TRUE(contains(cycles_refusal(mixed, variant).value_or(""), "is not a reflecting GGX surface"));
+}
+
+TEST(CyclesExport, WorldLightSamplingCanBeTurnedOffAndTheHeaderSaysSo) {
+  EXPECT_TRUE(contains(export_cycles(builtin("ggx_sky_strips"), {}), "    'world_light_sampling': True,\n"));
+  CyclesOptions off;
+  off.world_light_sampling = false;
+  const std::string text = export_cycles(builtin("ggx_sky_strips"), off);
+  EXPECT_TRUE(contains(text, "    'world_light_sampling': False,\n"));
+  EXPECT_TRUE(contains(text, "world.cycles.sampling_method = 'AUTOMATIC' if SCENE['world_light_sampling'] else 'NONE'"));
+  EXPECT_TRUE(contains(header_of(text), "DIAGNOSTIC: the world is not sampled as a light")) << header_of(text);
 }
 
 TEST(CyclesExport, PlanarMirrorIsGlossySharp) {
@@ -226,7 +302,7 @@ TEST(CyclesExport, WritesTheRenderSettingsItsFactsNeed) {
 
 TEST(CyclesExport, OneSidedEmittersAreMarkedAndTheBuilderMixesByBackfacing) {
   const std::string one = export_cycles(builtin("disk_occluder"), {});
-  EXPECT_TRUE(contains(one, "'name': 'light', 'albedo': 0, 'mirror': False, 'emission': 4, 'two_sided': False"));
+  EXPECT_TRUE(contains(one, "'name': 'light', 'albedo': 0, 'mirror': False, 'ggx': None, 'emission': 4, 'two_sided': False"));
   EXPECT_TRUE(contains(one, "links.new(geometry.outputs['Backfacing'], front_only.inputs['Fac'])"));
   const std::string two = export_cycles(builtin("enclosure_sphere"), {});
   EXPECT_TRUE(contains(two, "'emission': 1.5, 'two_sided': True")) << header_of(two);
@@ -625,7 +701,10 @@ nlohmann::json expected_graph(const Object& o) {
   if (!m) return "refused";
   json surface = nullptr, emitted = nullptr;
   if (m->albedo > 0 || !o.is_emitter())
-    surface = m->mirror ? json::array({"Glossy", "SHARP", m->albedo}) : json::array({"Diffuse", m->albedo, 0.0});
+    surface = m->mirror                     ? json::array({"Glossy", "SHARP", m->albedo})
+              : o.material.type == BsdfType::kGgx ? json::array({"Glossy", "GGX", m->albedo,
+                                                                 std::sqrt(o.material.ggx_alpha)})
+                                                  : json::array({"Diffuse", m->albedo, 0.0});
   if (o.is_emitter()) {
     emitted = json::array({"Emission", 1.0, o.emitted_radiance});
     if (!o.two_sided) emitted = json::array({"Mix", json::array({"Geometry", "Backfacing"}), emitted, nullptr});
@@ -648,7 +727,8 @@ TEST_F(CyclesExportFile, TheBuilderMakesEachMaterialsNodeGraphAsTheSceneStatesIt
   small.emitter_grid = 1;
   int graphs = 0, one_sided = 0;
   for (const char* name :
-       {"disk_occluder", "mirror_disk", "enclosure_sphere", "back_facing_emitters", "environment_blocker"}) {
+       {"disk_occluder", "mirror_disk", "enclosure_sphere", "back_facing_emitters", "environment_blocker",
+        "ggx_sky_strips"}) {
     const Scene scene = builtin(name);
     const fs::path script = dir_ / (std::string(name) + ".py");
     write_cycles(scene, small, script);
@@ -669,8 +749,34 @@ TEST_F(CyclesExportFile, TheBuilderMakesEachMaterialsNodeGraphAsTheSceneStatesIt
       }
     }
     EXPECT_EQ(actual["world"], nlohmann::json::array({"Background", 1.0, scene.environment.radiance})) << name;
+    EXPECT_EQ(actual["world_sampling"], "AUTOMATIC") << name;
   }
   std::printf("%d material graphs compared (%d one-sided emitters)\n", graphs, one_sided);
+}
+
+// The diagnostic and reference-only options reach the builder: Multiscatter
+// GGX of roughness √α and Color ρ, the world not sampled as a light. Control:
+// the plain export of the same scene builds GGX and samples the world.
+TEST_F(CyclesExportFile, TheBuilderMakesMultiscatterGgxAndAnUnsampledWorldWhenAsked) {
+  if (testing_support::run_command("python3 -c pass 2>&1").exit_code != 0) GTEST_SKIP() << "skipped: no python3";
+  const Scene scene = builtin("ggx_sky_strips");
+  CyclesOptions variant;
+  variant.energy_conserving_ggx = true;
+  variant.world_light_sampling = false;
+  for (const bool plain : {false, true}) {
+    const fs::path script = dir_ / (plain ? "plain.py" : "variant.py");
+    write_cycles(scene, plain ? CyclesOptions{} : variant, script);
+    const auto r = testing_support::run_command("python3 '" + std::string(FURNACE_CYCLES_NODE_GRAPH_PY) + "' '" +
+                                                script.string() + "' 2>&1");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const nlohmann::json actual = nlohmann::json::parse(r.output.substr(r.output.find("\n{") + 1));
+    for (const Object& o : scene.objects)
+      EXPECT_EQ(actual["materials"][o.name],
+                nlohmann::json::array({"Glossy", plain ? "GGX" : "MULTI_GGX", o.material.albedo,
+                                       std::sqrt(o.material.ggx_alpha)}))
+          << o.name;
+    EXPECT_EQ(actual["world_sampling"], plain ? "AUTOMATIC" : "NONE");
+  }
 }
 
 using CliResult = testing_support::CommandResult;

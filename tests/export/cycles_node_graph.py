@@ -6,9 +6,10 @@
 # bpy and mathutils are replaced by a recorder that keeps every node, socket
 # value and link the script makes; bpy.ops.render.render writes an empty
 # file where the script asks for the image. The output is one JSON object:
-#   {"materials": {name: graph}, "world": graph}
+#   {"materials": {name: graph}, "world": graph, "world_sampling": method}
 # with graph one of
-#   ["Diffuse", colour, roughness]    ["Glossy", distribution, colour]
+#   ["Diffuse", colour, roughness]    ["Glossy", "SHARP", colour]
+#   ["Glossy", distribution, colour, roughness] (GGX, MULTI_GGX)
 #   ["Emission", colour, strength]    ["Background", colour, strength]
 #   ["Add", graph, graph]             ["Mix", graph (factor), graph, graph]
 #   ["Geometry", output name]         null (nothing linked)
@@ -155,7 +156,9 @@ def graph(tree, socket):
     if n.kind == 'ShaderNodeBsdfDiffuse':
         return ['Diffuse', colour(inputs['Color'].default_value), inputs['Roughness'].default_value]
     if n.kind == 'ShaderNodeBsdfGlossy':
-        return ['Glossy', n.distribution, colour(inputs['Color'].default_value)]
+        if n.distribution == 'SHARP':
+            return ['Glossy', n.distribution, colour(inputs['Color'].default_value)]
+        return ['Glossy', n.distribution, colour(inputs['Color'].default_value), inputs['Roughness'].default_value]
     if n.kind == 'ShaderNodeEmission':
         return ['Emission', colour(inputs['Color'].default_value), inputs['Strength'].default_value]
     if n.kind == 'ShaderNodeAddShader':
@@ -181,7 +184,8 @@ def main():
     background = data.worlds[0].node_tree.nodes['Background']
     world = ['Background', colour(background.inputs['Color'].default_value),
              background.inputs['Strength'].default_value]
-    print(json.dumps({'materials': materials, 'world': world}))
+    print(json.dumps({'materials': materials, 'world': world,
+                      'world_sampling': data.worlds[0].cycles.sampling_method}))
 
 
 main()

@@ -33,6 +33,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "analytic/global.h"
+#include "core/exr.h"
 #include "core/scene.h"
 #include "tests/command.h"
 #include "tests/export/peer_support.h"
@@ -86,7 +88,8 @@ class CyclesPeer {
   // check's exit code.
   int render_and_check(const std::string& label, const fs::path& scene_file, const Scene& scene_for_export,
                        const CyclesOptions& options,
-                       const std::function<std::string(const std::string&)>& edit_script = {}) {
+                       const std::function<std::string(const std::string&)>& edit_script = {},
+                       int renders = kRenders) {
     const Scene scene = load_scene(scene_file);
     const int check_depth = direct_lighting_is_complete(scene) ? 2 : kUnlimitedDepth;
     const auto start = std::chrono::steady_clock::now();
@@ -98,21 +101,21 @@ class CyclesPeer {
     }
     const CommandResult r = run(fmt::format(
         "{} -b --factory-startup --python-exit-code 1 --python {} -- --seeds {}-{} --output {} --threads {}",
-        quoted(*blender_), quoted(script), kFirstSeed, kFirstSeed + kRenders - 1,
+        quoted(*blender_), quoted(script), kFirstSeed, kFirstSeed + renders - 1,
         quoted(dir_ / "render_{seed}.exr"), kCyclesThreads));
     if (r.exit_code != 0) {
       ADD_FAILURE() << "Blender failed (exit " << r.exit_code << ") on " << script << ":\n" << r.output;
       return -1;
     }
     std::vector<fs::path> images;
-    for (int i = 0; i < kRenders; ++i) images.push_back(dir_ / fmt::format("render_{}.exr", kFirstSeed + i));
+    for (int i = 0; i < renders; ++i) images.push_back(dir_ / fmt::format("render_{}.exr", kFirstSeed + i));
     const peer::CheckRun check = check_renders(scene_file, check_depth, images, dir_ / "check.json");
     last_ = check.numbers;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("%s", check.output.c_str());
     std::printf("peer: cycles %s K=%d spp=%d check --max-depth %s exit %d, worst pixel |t| %.2f, image-mean t %.2f "
                 "(relative error %+.3g%%), detectable bias %.3g%%, wall %.1f s\n",
-                label.c_str(), kRenders, options.spp, depth_name(check_depth).c_str(), check.exit_code,
+                label.c_str(), renders, options.spp, depth_name(check_depth).c_str(), check.exit_code,
                 last_.worst_pixel_t, last_.image_mean_t, 100 * last_.image_mean_relative_error,
                 100 * last_.detectable_relative_bias, seconds);
     return check.exit_code;
@@ -186,6 +189,181 @@ TEST_P(CyclesPeerScene, PassesFurnaceCheck) {
 
 INSTANTIATE_TEST_SUITE_P(BuiltIn, CyclesPeerScene, testing::ValuesIn(exportable_scenes()),
                          [](const testing::TestParamInfo<std::string>& info) { return camel_case(info.param); });
+
+#if !FURNACE_PEER_COSTLY_SCENES
+// The oblique GGX scenes as Cycles 3.4 can render them: the built-in ones put
+// a height-correlated strip beside each separable one (Cycles 3.4 has the
+// separable form only: refused), so each peer scene is derived from a
+// built-in one with every GGX surface separable (peer::derived_ggx_scene;
+// albedo 0.8 kept: Color = albedo) and checked against its own exact
+// reference. The normal-view GGX scenes (ggx_sky_strips, ggx_disk_occluder)
+// are exportable as they are and run in CyclesPeerScene above.
+std::vector<std::pair<std::string, std::string>> ggx_separable_scenes() {
+  return {{"ggx_oblique_sky_60_sep", "ggx_oblique_sky_60"},
+          {"ggx_oblique_sky_78_sep", "ggx_oblique_sky_78"},
+          {"ggx_oblique_sphere_60_sep", "ggx_oblique_sphere_60"},
+          {"ggx_oblique_sphere_78_sep", "ggx_oblique_sphere_78"}};
+}
+
+class CyclesPeerGgx : public CyclesPeer, public testing::TestWithParam<std::pair<std::string, std::string>> {
+ protected:
+  void SetUp() override {
+    if (!set_up(camel_case(GetParam().first))) GTEST_SKIP() << no_blender_message();
+  }
+  void TearDown() override { tear_down(!HasFailure()); }
+};
+
+// What furnace finds in Cycles 3.4's GGX, asserted to keep failing
+// (docs/findings.md): under a sky at oblique view the image is too dark by
+// about 7e-5 (ggx_oblique_sky_60_sep: -7.0e-5, t -8.0 at 2048 spp; the
+// BSDF-only renders of CyclesPeerGgxFinding below show it is the BSDF
+// sampler's). At 128 spp that bias is below the check's resolution, so these
+// scenes render 2048 spp.
+const std::map<std::string, std::string> kKnownCyclesGgxDefects = {
+    {"ggx_oblique_sky_60_sep", "Cycles 3.4's GGX under a sky at cos 0.5 renders about 7e-5 too dark"},
+    {"ggx_oblique_sky_78_sep", "Cycles 3.4's GGX under a sky at cos 0.2 renders about 8e-5 too dark"},
+};
+constexpr int kGgxDefectSpp = 2048;
+
+TEST_P(CyclesPeerGgx, PassesFurnaceCheck) {
+  const auto& [name, builtin] = GetParam();
+  const fs::path file = peer::derived_ggx_scene(builtin, name, dir_, "separable", std::nullopt);
+  const Scene scene = load_scene(file);
+  ASSERT_FALSE(cycles_refusal(scene)) << *cycles_refusal(scene);
+  CyclesOptions options;
+  options.spp = kSpp;
+  const auto known = kKnownCyclesGgxDefects.find(name);
+  if (known != kKnownCyclesGgxDefects.end()) {
+    std::printf("known Cycles defect, expected to FAIL: %s\n", known->second.c_str());
+    options.spp = kGgxDefectSpp;
+    EXPECT_EQ(render_and_check(name, file, scene, options), 1);
+    return;
+  }
+  EXPECT_EQ(render_and_check(name, file, scene, options), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Derived, CyclesPeerGgx, testing::ValuesIn(ggx_separable_scenes()),
+                         [](const testing::TestParamInfo<std::pair<std::string, std::string>>& info) {
+                           return camel_case(info.param.first);
+                         });
+
+#endif
+
+// The findings about Cycles 3.4's GGX (docs/findings.md), each with its
+// asserted outcome, so that a Blender that changes shows up.
+class CyclesPeerGgxFinding : public CyclesPeer, public testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string name = testing::UnitTest::GetInstance()->current_test_info()->name();
+    if (!set_up("GgxFinding" + name)) GTEST_SKIP() << no_blender_message();
+  }
+  void TearDown() override { tear_down(!HasFailure()); }
+
+  // The separable, albedo-1 variant of `builtin` under its sky with the
+  // world not sampled as a light: the BSDF sampler alone carries the sky's
+  // light. K = 16 renders of 8192 spp; returns check's exit code.
+  int bsdf_only(const std::string& builtin) {
+    const std::string name = builtin + "_sep_albedo1";
+    const fs::path file = peer::derived_ggx_scene(builtin, name, dir_, "separable", 1.0);
+    CyclesOptions options;
+    options.spp = kBsdfOnlySpp;
+    options.world_light_sampling = false;
+    const Scene scene = load_scene(file);
+    const int code = render_and_check(name + " (BSDF sampling only)", file, scene, options);
+    std::printf("finding: %s, BSDF sampling only, K=%d spp=%d: image mean %+.3g relative (t %.2f), detectable "
+                "bias %.3g\n",
+                name.c_str(), kRenders, kBsdfOnlySpp, last_.image_mean_relative_error, last_.image_mean_t,
+                last_.detectable_relative_bias);
+    print_per_strip(scene);
+    return code;
+  }
+
+  // Each strip's relative error and its t over the K renders: the scenes'
+  // GGX strips are equal vertical bands across the image, left to right in
+  // the order of the scene's objects (image right is +x in all three).
+  void print_per_strip(const Scene& scene) {
+    const std::vector<double> reference = analytic::global_reference_image(scene, kUnlimitedDepth);
+    const int width = scene.camera.width_px, height = scene.camera.height_px;
+    const int strips = int(scene.objects.size());
+    std::vector<std::vector<double>> ratio(strips);  // per strip, per render: mean(image) / mean(reference)
+    for (int i = 0; i < kRenders; ++i) {
+      const exr::Image image = exr::read(dir_ / fmt::format("render_{}.exr", kFirstSeed + i), "Cycles render");
+      std::vector<double> sum(strips, 0), ref(strips, 0);
+      for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+          const size_t p = size_t(y) * width + x;
+          const int k = x * strips / width;
+          sum[k] += (double(image.floats.at("R")[p]) + image.floats.at("G")[p] + image.floats.at("B")[p]) / 3;
+          ref[k] += reference[p];
+        }
+      for (int k = 0; k < strips; ++k) ratio[k].push_back(sum[k] / ref[k]);
+    }
+    for (int k = 0; k < strips; ++k) {
+      double mean = 0, var = 0;
+      for (double r : ratio[k]) mean += r / kRenders;
+      for (double r : ratio[k]) var += (r - mean) * (r - mean) / (kRenders - 1);
+      const double se = std::sqrt(var / kRenders);
+      const Material& m = scene.objects[k].material;
+      std::printf("finding: strip '%s' (alpha %g, %s): relative error %+.3g, t %.1f\n",
+                  scene.objects[k].name.c_str(), m.ggx_alpha, microfacet_shadowing_name(m.shadowing), mean - 1,
+                  se > 0 ? (mean - 1) / se : 0.0);
+    }
+  }
+  static constexpr int kBsdfOnlySpp = 8192;
+};
+
+#if FURNACE_PEER_COSTLY_SCENES
+// Label slow (cycles_peer_slow_tests): 8192 spp renders, 19-29 s each.
+// The oblique question: the BSDF sampler alone, at cos θo = 0.5 and 0.2, is
+// measured too dark (-6.8e-5, t -36, and -7.7e-5, t -40; detectable 1.2e-5),
+// the sign and size the approximate Heitz & d'Eon 2014 inverse CDF of Cycles
+// 3.4 predicts (1e-5 to 4e-4).
+TEST_F(CyclesPeerGgxFinding, ObliqueSkyBsdfSamplingIsBiasedAtCos05) { EXPECT_EQ(bsdf_only("ggx_oblique_sky_60"), 1); }
+TEST_F(CyclesPeerGgxFinding, ObliqueSkyBsdfSamplingIsBiasedAtCos02) { EXPECT_EQ(bsdf_only("ggx_oblique_sky_78"), 1); }
+// At normal view the same run finds a bias 8 times smaller and of the other
+// sign (+0.9e-5, t 4.8, detectable 1.2e-5); with world light sampling on,
+// the normal-view scene passes at 2048 spp (t 0.16).
+TEST_F(CyclesPeerGgxFinding, NormalViewSkyBsdfSamplingIsBiasedByAbout1e5) {
+  EXPECT_EQ(bsdf_only("ggx_sky_strips"), 1);
+}
+
+#else
+// Energy conservation: Multiscatter GGX of Color ρ under a constant sky at
+// normal view, the energy-conserving variant of the export, must reflect
+// L = L_env·ρ. Checked against the same scene with Lambertian strips of
+// albedo ρ (the same exact answer), and pixel by pixel: Cycles 3.4 renders
+// every pixel of every render at L_env·ρ to float precision (its random walk
+// gives every BSDF sample the weight ρ), so the deficit is 0, with no spread
+// (furnace check needs a spread across images: it reports identical pixels
+// as bad input, exit 2, when every pixel is constant).
+TEST_F(CyclesPeerGgxFinding, MultiscatterGgxConservesEnergyExactlyUnderAConstantSky) {
+  for (double albedo : {1.0, 0.8}) {
+    const std::string name = fmt::format("ggx_sky_strips_albedo{}", albedo);
+    const fs::path ggx = peer::derived_ggx_scene("ggx_sky_strips", name, dir_, std::nullopt, albedo);
+    const fs::path lambertian =
+        peer::derived_lambertian_scene("ggx_sky_strips", name + "_lambertian", dir_, albedo);
+    const Scene scene = load_scene(ggx);
+    CyclesOptions options;
+    options.spp = 1024;
+    options.energy_conserving_ggx = true;
+    ASSERT_FALSE(cycles_refusal(scene, options)) << *cycles_refusal(scene, options);
+    const int code = render_and_check("energy-conserving GGX " + name, lambertian, scene, options);
+    EXPECT_NE(code, 1) << "furnace check found a deficit";
+    double worst = 0;
+    for (int i = 0; i < kRenders; ++i) {
+      const exr::Image image = exr::read(dir_ / fmt::format("render_{}.exr", kFirstSeed + i), "Cycles render");
+      for (const auto& [channel, values] : image.floats)
+        if (channel == "R" || channel == "G" || channel == "B")
+          for (float v : values) worst = std::max(worst, std::fabs(v / (scene.environment.radiance * albedo) - 1));
+    }
+    std::printf("finding: Multiscatter GGX, Color %g, K=%d spp=%d: largest |pixel / (L_env * albedo) - 1| %.3g\n",
+                albedo, kRenders, options.spp, worst);
+    // Cycles sums the spp samples of a pixel in float: rounding alone moves
+    // the sum by up to spp·2⁻²⁴ relative (6.1e-5 at 1024 spp).
+    EXPECT_LE(worst, options.spp * 0x1p-24);
+  }
+}
+#endif
 
 #if !FURNACE_PEER_COSTLY_SCENES
 class CyclesPeerScript : public CyclesPeer, public testing::Test {
@@ -327,6 +505,45 @@ TEST_P(CyclesPeerControl, FailsFurnaceCheck) {
 
 INSTANTIATE_TEST_SUITE_P(Negative, CyclesPeerControl, testing::ValuesIn(controls()),
                          [](const testing::TestParamInfo<Control>& info) { return info.param.name; });
+
+class CyclesPeerGgxControl : public CyclesPeer, public testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string name = testing::UnitTest::GetInstance()->current_test_info()->name();
+    if (!set_up("GgxControl" + name)) GTEST_SKIP() << no_blender_message();
+  }
+  void TearDown() override { tear_down(!HasFailure()); }
+};
+
+// Roughness written as α instead of √α: Cycles then renders α² (strips of α
+// 0.5 … 0.05 as 0.25 … 0.0025).
+TEST_F(CyclesPeerGgxControl, RoughnessAlphaForSqrtAlphaFails) {
+  const fs::path file = scene_file("ggx_sky_strips");
+  CyclesOptions options;
+  options.spp = kSpp;
+  EXPECT_EQ(render_and_check("roughness = alpha (ggx_sky_strips)", file, load_scene(file), options,
+                             [](const std::string& script) {
+                               return replaced(script, "bsdf.inputs['Roughness'].default_value = o['ggx'][1]",
+                                               "bsdf.inputs['Roughness'].default_value = o['ggx'][1] ** 2");
+                             }),
+            1);
+}
+
+// Why height-correlated strips at oblique view are refused: Cycles'
+// separable G2 rendered where the scene asks for the height-correlated one
+// is seen.
+TEST_F(CyclesPeerGgxControl, HeightCorrelatedObliqueSceneRenderedSeparableFails) {
+  const fs::path rendered =
+      peer::derived_ggx_scene("ggx_oblique_sky_78", "ggx_oblique_sky_78_sep", dir_, "separable", std::nullopt);
+  const fs::path claimed =
+      peer::derived_ggx_scene("ggx_oblique_sky_78", "ggx_oblique_sky_78_hc", dir_, "height_correlated", std::nullopt);
+  ASSERT_TRUE(cycles_refusal(load_scene(claimed)));
+  CyclesOptions options;
+  options.spp = kSpp;
+  EXPECT_EQ(render_and_check("separable render checked as height-correlated (ggx_oblique_sky_78)", claimed,
+                             load_scene(rendered), options),
+            1);
+}
 #endif
 
 }  // namespace

@@ -35,6 +35,12 @@ Scene builtin(const std::string& name) { return load_scene(fs::path(FURNACE_SCEN
 
 std::string refusal_of(const Scene& scene) { return pbrt_v4_refusal(scene).value_or(""); }
 
+Object& named_object(Scene& scene, const std::string& name) {
+  for (Object& o : scene.objects)
+    if (o.name == name) return o;
+  throw std::runtime_error("no object '" + name + "' in scene '" + scene.name + "'");
+}
+
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // A scene with a mirror floor seen straight down by the camera, and a light.
@@ -123,9 +129,14 @@ std::optional<std::string> expected_material(const Material& m) {
       return fmt::format("Material \"conductor\" \"spectrum reflectance\" [300 {0} 900 {0}] \"float roughness\" 0",
                          m.albedo);
     case BsdfType::kPhong:
-    case BsdfType::kGgx:
       if (m.albedo == 0) return diffuse(0);  // a black glossy surface is black
       return std::nullopt;
+    case BsdfType::kGgx:  // albedo 1 only, in a scene whose Smith form pbrt has (refused elsewhere)
+      if (m.albedo == 0) return diffuse(0);
+      if (m.albedo != 1) return std::nullopt;
+      return fmt::format("Material \"conductor\" \"spectrum eta\" [300 0 900 0] \"spectrum k\" [300 1 900 1] "
+                         "\"float roughness\" {} \"bool remaproughness\" false",
+                         m.ggx_alpha);
   }
   return std::nullopt;
 }
@@ -173,6 +184,93 @@ TEST(PbrtV4Export, ADiffuseMirrorWouldNotPassTheMaterialTest) {
   as_diffuse.type = BsdfType::kLambertian;
   EXPECT_NE(materials[0].second, *expected_material(as_diffuse));
   EXPECT_EQ(materials[0].second, *expected_material(scene.objects[0].material));
+}
+
+// A built-in GGX scene with every GGX object's albedo (and, when given,
+// Smith form) replaced.
+Scene ggx_variant(const std::string& name, double albedo, std::optional<MicrofacetShadowing> shadowing = {}) {
+  Scene scene = builtin(name);
+  for (Object& o : scene.objects) {
+    if (o.material.type != BsdfType::kGgx) continue;
+    o.material.albedo = albedo;
+    if (shadowing) o.material.shadowing = *shadowing;
+  }
+  return scene;
+}
+
+TEST(PbrtV4Export, GgxIsAConductorWithFresnelOneAndAlphaUnremapped) {
+  for (const char* name : {"ggx_oblique_sky_60", "ggx_oblique_sphere_78", "ggx_sky_strips", "ggx_disk_occluder"}) {
+    const Scene scene = ggx_variant(name, 1, MicrofacetShadowing::kHeightCorrelated);
+    ASSERT_FALSE(pbrt_v4_refusal(scene)) << refusal_of(scene);
+    const std::string text = export_pbrt_v4(scene, {});
+    const auto materials = written_materials(text);
+    ASSERT_EQ(materials.size(), scene.objects.size()) << name;
+    int ggx = 0;
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
+      EXPECT_EQ(materials[i].second, *expected_material(scene.objects[i].material)) << name;
+      if (scene.objects[i].material.type == BsdfType::kGgx) ++ggx;
+    }
+    EXPECT_GE(ggx, 1) << name;
+    EXPECT_TRUE(contains(text, "\"float roughness\" 0.3 \"bool remaproughness\" false") ||
+                contains(text, "\"float roughness\" 0.5 \"bool remaproughness\" false"))
+        << name;
+    EXPECT_TRUE(contains(text, "F = 1 exactly")) << text.substr(0, 4000);
+    EXPECT_TRUE(contains(text, "(left true, pbrt takes alpha = sqrt(roughness))")) << text.substr(0, 4000);
+  }
+}
+
+TEST(PbrtV4Export, GgxRefusesAnAlbedoOtherThanOneNamingTheObject) {
+  const Scene scene = builtin("ggx_sky_strips");  // albedo 0.8
+  EXPECT_EQ(refusal_of(scene),
+            "scene 'ggx_sky_strips' (" + scene.source + ") cannot be exported to pbrt-v4: the GGX object 'ggx_a1' "
+            "(objects[0].material.type \"ggx\", albedo 0.8, alpha 1, shadowing \"height_correlated\") has albedo "
+            "0.8, and pbrt-v4's conductor has no constant factor on its reflection (the export writes F ≡ 1, exact "
+            "for albedo 1 only).");
+  EXPECT_TRUE(pbrt_v4_refusal(ggx_variant("ggx_sky_strips", 0.99)));
+  EXPECT_FALSE(pbrt_v4_refusal(ggx_variant("ggx_sky_strips", 1)));
+}
+
+// furnace's scene files stop at α = 1e-3, pbrt's mirror threshold; a Scene
+// built in memory below it is refused, and 1e-3 itself is written.
+TEST(PbrtV4Export, GgxRefusesAnAlphaPbrtWouldRenderAsAMirror) {
+  Scene scene = ggx_variant("ggx_sky_strips", 1);
+  scene.objects[4].material.ggx_alpha = 1e-3;
+  EXPECT_FALSE(pbrt_v4_refusal(scene)) << refusal_of(scene);
+  scene.objects[4].material.ggx_alpha = 9.9e-4;
+  const std::string reason = refusal_of(scene);
+  EXPECT_TRUE(contains(reason, "'ggx_a0.05'") && contains(reason, "as a perfect mirror")) << reason;
+}
+
+TEST(PbrtV4Export, GgxRefusesTheSeparableFormWhereItDiffersFromPbrtsHeightCorrelatedOne) {
+  // Oblique view: the separable strips are refused, the height-correlated ones are not.
+  const Scene oblique = ggx_variant("ggx_oblique_sky_60", 1);
+  const std::string reason = refusal_of(oblique);
+  EXPECT_TRUE(contains(reason, "'ggx_a1_sep' (objects[0].material.type \"ggx\", albedo 1, alpha 1, shadowing "
+                               "\"separable\") uses the separable Smith form, which pbrt-v4 does not implement"))
+      << reason;
+  EXPECT_TRUE(contains(reason, "not perpendicular to the camera's forward direction")) << reason;
+  EXPECT_FALSE(pbrt_v4_refusal(ggx_variant("ggx_oblique_sky_60", 1, MicrofacetShadowing::kHeightCorrelated)));
+  // Normal view but another object reflects light that left the GGX surface obliquely.
+  Scene lit = ggx_variant("ggx_disk_occluder", 1);
+  ASSERT_FALSE(pbrt_v4_refusal(lit)) << refusal_of(lit);
+  named_object(lit, "occluder").material.albedo = 0.5;
+  const std::string reflected = refusal_of(lit);
+  EXPECT_TRUE(contains(reflected, "'ggx_a0.5'") && contains(reflected, "the object 'occluder' reflects light"))
+      << reflected;
+  named_object(lit, "ggx_a0.5").material.shadowing = MicrofacetShadowing::kHeightCorrelated;
+  EXPECT_FALSE(pbrt_v4_refusal(lit)) << refusal_of(lit);
+}
+
+TEST(PbrtV4Export, GgxSeparableAtNormalViewIsWrittenAndTheFileSaysWhyItIsExact) {
+  const Scene scene = ggx_variant("ggx_sky_strips", 1);  // separable and height-correlated strips
+  ASSERT_FALSE(pbrt_v4_refusal(scene)) << refusal_of(scene);
+  const std::string text = export_pbrt_v4(scene, {});
+  EXPECT_TRUE(contains(text, "#   'ggx_a0.5' (alpha 0.5, shadowing separable): \"float roughness\" 0.5.\n"
+                             "#     The scene asks for the separable form")) << text;
+  EXPECT_TRUE(contains(text, "#     where the two forms are equal (Lambda(n) = 0)")) << text;
+  // The height-correlated strips get no such note.
+  EXPECT_TRUE(contains(text, "#   'ggx_a1' (alpha 1, shadowing height_correlated): \"float roughness\" 1.\n#   'ggx_a0.5'"))
+      << text;
 }
 
 TEST(PbrtV4ExportDeathTest, AMaterialTypeNoCaseHandlesIsAnInternalErrorNotADiffuseSurface) {

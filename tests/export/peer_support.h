@@ -135,6 +135,67 @@ inline std::string camel_case(const std::string& snake) {
   return out;
 }
 
+// A built-in GGX scene changed only in its GGX materials, written as
+// `dir`/<name>.json so that `furnace check` computes the exact reference of
+// the scene actually rendered: every GGX object's "shadowing" set to
+// `shadowing` and/or its "albedo" to `albedo` (unchanged when empty). The
+// file is the built-in one with those fields replaced and "name" set to
+// `name`; nothing else differs, so the derived scene stays out of every
+// built-in suite (verify's table, the exporters' scene lists).
+inline fs::path derived_ggx_scene(const std::string& builtin, const std::string& name, const fs::path& dir,
+                                  std::optional<std::string> shadowing, std::optional<double> albedo) {
+  std::ifstream in(scene_file(builtin));
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["name"] = name;
+  int changed = 0;
+  for (nlohmann::json& o : j["objects"]) {
+    if (!o.contains("material") || o["material"].value("type", "") != "ggx") continue;
+    if (shadowing) o["material"]["shadowing"] = *shadowing;
+    if (albedo) o["material"]["albedo"] = *albedo;
+    ++changed;
+  }
+  if (changed == 0) throw std::runtime_error("scene '" + builtin + "' has no GGX object to derive from");
+  const fs::path out = dir / (name + ".json");
+  std::ofstream(out) << j.dump(2) << "\n";
+  return out;
+}
+
+// ggx_sky_strips with its five strips' α set to `alphas` (left to right)
+// and albedo 1, written as `dir`/<name>.json: the near-specular end of
+// furnace's α range under the sky at normal view.
+inline fs::path derived_strips_with_alphas(const std::vector<double>& alphas, const std::string& name,
+                                           const fs::path& dir) {
+  std::ifstream in(scene_file("ggx_sky_strips"));
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["name"] = name;
+  if (j["objects"].size() != alphas.size()) throw std::runtime_error("ggx_sky_strips has another number of strips");
+  for (size_t i = 0; i < alphas.size(); ++i) {
+    j["objects"][i]["material"]["alpha"] = alphas[i];
+    j["objects"][i]["material"]["albedo"] = 1.0;
+    j["objects"][i]["name"] = fmt::format("ggx_a{}", alphas[i]);
+  }
+  const fs::path out = dir / (name + ".json");
+  std::ofstream(out) << j.dump(2) << "\n";
+  return out;
+}
+
+// A built-in GGX scene with every GGX material replaced by a Lambertian one
+// of albedo `albedo`, written as `dir`/<name>.json: where each surface sees
+// a constant sky alone, its exact answer L_env·albedo is also that of any
+// energy-conserving BSDF of that albedo (the energy-conserving GGX check).
+inline fs::path derived_lambertian_scene(const std::string& builtin, const std::string& name, const fs::path& dir,
+                                         double albedo) {
+  std::ifstream in(scene_file(builtin));
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["name"] = name;
+  for (nlohmann::json& o : j["objects"])
+    if (o.contains("material") && o["material"].value("type", "") == "ggx")
+      o["material"] = {{"type", "lambertian"}, {"albedo", albedo}};
+  const fs::path out = dir / (name + ".json");
+  std::ofstream(out) << j.dump(2) << "\n";
+  return out;
+}
+
 inline Object& named(Scene& scene, const std::string& name) {
   for (Object& o : scene.objects)
     if (o.name == name) return o;

@@ -42,8 +42,52 @@ TEST(ExportSceneFacts, ObjectMaterialTextNamesObjectFieldAndValue) {
   EXPECT_EQ(object_material_text(scene, 0), "'floor' (objects[0].material.type \"phong\", albedo 0.25)");
 }
 
+TEST(ExportSceneFacts, ObjectMaterialTextOfGgxNamesAlphaAndSmithForm) {
+  const Scene scene = builtin("ggx_oblique_sky_60");
+  EXPECT_EQ(object_material_text(scene, 2), "'ggx_a0.3_sep' (objects[2].material.type \"ggx\", albedo 0.8, alpha "
+                                            "0.3, shadowing \"separable\")");
+}
+
+// Light leaves a surface towards the eye only along its normal when the
+// surface is planar, faces the orthographic camera and nothing else reflects.
+TEST(ExportSceneFacts, SeenOnlyAlongTheNormalNeedsAPlanarSurfaceFacingTheCameraAndNoOtherReflector) {
+  Scene strips = builtin("ggx_sky_strips");
+  for (size_t i = 0; i < strips.objects.size(); ++i) EXPECT_FALSE(not_seen_only_along_normal(strips, i)) << i;
+  // A camera tilted by 1e-3 rad (1 − cos = 5e-7 > 1e-9) sees every strip obliquely.
+  strips.camera.forward = normalize(Vec3{0, 1e-3, -1});
+  const auto tilted = not_seen_only_along_normal(strips, 0);
+  ASSERT_TRUE(tilted);
+  EXPECT_TRUE(contains(*tilted, "'ggx_a1' is not perpendicular")) << *tilted;
+  // Within the tolerance: 1e-5 rad (1 − cos = 5e-11).
+  strips.camera.forward = normalize(Vec3{0, 1e-5, -1});
+  EXPECT_FALSE(not_seen_only_along_normal(strips, 0));
+  // The strips all reflect but share one plane: none sees another. Lift
+  // one strip by 0.01 and the others' oblique light can reach it.
+  Scene lifted = builtin("ggx_sky_strips");
+  std::get<Rectangle>(lifted.objects[4].shape).corner.z = 0.01;
+  const auto raised = not_seen_only_along_normal(lifted, 0);
+  ASSERT_TRUE(raised);
+  EXPECT_TRUE(contains(*raised, "the object 'ggx_a0.05' reflects light that leaves 'ggx_a1'")) << *raised;
+  EXPECT_TRUE(not_seen_only_along_normal(lifted, 4));
+  // The disk scene: the black occluder reflects nothing; once it does, the
+  // receivers' oblique light comes back.
+  Scene disk = builtin("ggx_disk_occluder");
+  EXPECT_FALSE(not_seen_only_along_normal(disk, 0));
+  disk.objects[3].material.albedo = 0.5;
+  const auto reflected = not_seen_only_along_normal(disk, 0);
+  ASSERT_TRUE(reflected);
+  EXPECT_TRUE(contains(*reflected, "'occluder' reflects")) << *reflected;
+  // The oblique scenes' strips are seen at 60 degrees.
+  EXPECT_TRUE(not_seen_only_along_normal(builtin("ggx_oblique_sky_60"), 0));
+  // A sphere never qualifies.
+  const Scene sphere = builtin("ggx_oblique_sphere_60");
+  const auto round = not_seen_only_along_normal(sphere, 4);
+  ASSERT_TRUE(round);
+  EXPECT_TRUE(contains(*round, "'light' is a sphere")) << *round;
+}
+
 TEST(ExportSceneFacts, EveryTypeReflectsExactlyWhenItsAlbedoIsPositive) {
-  for (const BsdfType type : {BsdfType::kLambertian, BsdfType::kMirror, BsdfType::kPhong}) {
+  for (const BsdfType type : {BsdfType::kLambertian, BsdfType::kMirror, BsdfType::kPhong, BsdfType::kGgx}) {
     EXPECT_TRUE(reflects(Material{type, 0.5, 10})) << bsdf_type_name(type);
     EXPECT_TRUE(reflects(Material{type, 1e-300, 10})) << bsdf_type_name(type);
     EXPECT_FALSE(reflects(Material{type, 0, 10})) << bsdf_type_name(type);
