@@ -323,12 +323,12 @@ ComparisonTestResult comparison_test(const SampleSummary& a, const SampleSummary
     r.message = "Each estimator needs at least 2 samples.";
     return r;
   }
-  return comparison_test(MeanEstimate{a.mean, a.sample_variance / double(a.count), double(a.count - 1)},
+  return welch_test(MeanEstimate{a.mean, a.sample_variance / double(a.count), double(a.count - 1)},
                          MeanEstimate{b.mean, b.sample_variance / double(b.count), double(b.count - 1)}, alpha,
                          power);
 }
 
-ComparisonTestResult comparison_test(const MeanEstimate& a, const MeanEstimate& b, double alpha, double power) {
+ComparisonTestResult welch_test(const MeanEstimate& a, const MeanEstimate& b, double alpha, double power) {
   require_level(alpha, "alpha");
   require_level(power, "power");
   ComparisonTestResult r;

@@ -236,11 +236,11 @@ struct ComparisonTestResult {
 };
 ComparisonTestResult comparison_test(const SampleSummary& a, const SampleSummary& b, double alpha,
                                      double power = kDefaultPower);
-// The same test of two mean estimates (the SampleSummary form is
+// comparison_test of two mean estimates (comparison_test is welch_test of
 // {mean, s²/N, N − 1}); the quantiles are Student's t at the Welch d.o.f.,
 // normal for +inf. Both dof must be ≥ 1 (or +inf), else pass = false.
-ComparisonTestResult comparison_test(const MeanEstimate& a, const MeanEstimate& b, double alpha,
-                                     double power = kDefaultPower);
+ComparisonTestResult welch_test(const MeanEstimate& a, const MeanEstimate& b, double alpha,
+                                double power = kDefaultPower);
 
 // ---------------------------------------------------------------------------
 // Calibration: the empirical false-alarm (or rejection) rate of a test.

@@ -181,7 +181,7 @@ void test_image_mean(const SideChannel& a, const SideChannel& b, int width, int 
   cc.mean_a = a.region(whole);
   cc.mean_b = b.region(whole);
   cc.alpha = alpha;
-  const stats::ComparisonTestResult t = stats::comparison_test(cc.mean_a, cc.mean_b, alpha, kReportedPower);
+  const stats::ComparisonTestResult t = stats::welch_test(cc.mean_a, cc.mean_b, alpha, kReportedPower);
   cc.image_mean_pass = t.pass;
   cc.dof = t.zero_variance ? kInf : t.dof;
   cc.statistic = t.zero_variance ? (t.pass ? 0 : std::copysign(kInf, t.difference)) : t.statistic;
