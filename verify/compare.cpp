@@ -366,8 +366,8 @@ void validate_compare_input(const CompareSide& a, const CompareSide& b) {
   for (const ForeignImage& x : a.images)
     for (const ForeignImage& y : b.images)
       if (same_file(x.path, y.path))
-        throw Error(fmt::format("image '{}' is given on both sides (as '{}'); the sides must be independent renders.",
-                                x.path, y.path));
+        throw Error(fmt::format("image '{}' is given on both sides{}; the sides must be independent renders.", x.path,
+                                x.path == y.path ? std::string() : fmt::format(" (as '{}')", y.path)));
   for (size_t i = 0; i < all.size(); ++i)
     for (size_t j = i + 1; j < all.size(); ++j)
       if (all[i]->value == all[j]->value)

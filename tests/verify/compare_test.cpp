@@ -421,14 +421,15 @@ struct Calibration {
   double mean_detectable = 0;          // mean over trials of the reported detectable difference
 };
 
-// `trials` pairs of K renders each; side A scaled by `gain`.
-Calibration calibrate(size_t trials, double gain, uint64_t first_seed) {
+// `trials` pairs of K renders each, pixel noise `sigma`; side A scaled by `gain`.
+Calibration calibrate(size_t trials, double gain, uint64_t first_seed, double sigma = kPixelNoise) {
   Calibration cal;
   const char* families[] = {"mean", "tiles", "pixels", "variance"};
   for (size_t t = 0; t < trials; ++t) {
     const uint64_t seed = first_seed + 2 * t;
-    const CompareResult r = compare_renders(synthetic({.k = kCalibrationK, .gain = gain, .seed = seed}),
-                                            synthetic({.k = kCalibrationK, .seed = seed + 1}), kCalibrationAlpha, 1.0);
+    const CompareResult r =
+        compare_renders(synthetic({.k = kCalibrationK, .sigma = sigma, .gain = gain, .seed = seed}),
+                        synthetic({.k = kCalibrationK, .sigma = sigma, .seed = seed + 1}), kCalibrationAlpha, 1.0);
     ++cal.trials;
     cal.rejections += r.rejected.empty() ? 0 : 1;
     for (int f = 0; f < 4; ++f) cal.by_family[f] += has(r.rejected, families[f]) ? 1 : 0;
@@ -453,18 +454,28 @@ void expect_false_alarms_at_most_alpha(size_t trials) {
   EXPECT_GT(p, kCalibrationLevel) << cal.rejections << " of " << cal.trials;
 }
 
+// A known 0.5 % difference of the mean (an emission change), with the pixel
+// noise scaled so that the reported detectable difference is 0.5 %: the
+// image-mean test must then reject with probability at least 0.9.
+constexpr double kKnownDifference = 0.005;
+
 void expect_power_at_the_detectable_difference(size_t trials) {
-  // The detectable difference at this design, measured on same-distribution pairs.
+  // The detectable difference scales with the noise: measure it at kPixelNoise.
   const double detectable = calibrate(20, 1.0, kCalibrationSeed + 1000000).mean_detectable;
-  const Calibration cal = calibrate(trials, 1 + detectable, kCalibrationSeed + 2000000);
+  const double sigma = kPixelNoise * kKnownDifference / detectable;
+  const double reported = calibrate(20, 1.0, kCalibrationSeed + 1500000, sigma).mean_detectable;
+  const Calibration cal = calibrate(trials, 1 + kKnownDifference, kCalibrationSeed + 2000000, sigma);
   const double rate = double(cal.by_family[0]) / double(cal.trials);
   // P(X ≤ k) under power 0.9: the observed count of image-mean rejections.
   const double p = boost::math::cdf(boost::math::binomial_distribution<double>(double(cal.trials), kReportedPower),
                                     double(cal.by_family[0]));
-  std::printf("power at the detectable difference %.4g%%: the image-mean test rejected %zu of %zu (%.3f), any test %zu; "
-              "P(X <= k | 0.9) = %.3g\n",
-              100 * detectable, cal.by_family[0], cal.trials, rate, cal.rejections, p);
+  std::printf("a %.2g%% difference at pixel noise %.3g%% (reported detectable %.4g%%): the image-mean test rejected "
+              "%zu of %zu (%.3f), any test %zu; P(X <= k | 0.9) = %.3g\n",
+              100 * kKnownDifference, 100 * sigma, 100 * reported, cal.by_family[0], cal.trials, rate, cal.rejections,
+              p);
   EXPECT_GT(p, kCalibrationLevel);
+  // Negative control: the same design without the difference rejects at about α, far below 0.9.
+  EXPECT_LT(calibrate(trials, 1.0, kCalibrationSeed + 3000000, sigma).by_family[0], trials / 4);
 }
 
 #ifndef FURNACE_COMPARE_SLOW
