@@ -29,8 +29,12 @@
 //    values of a render are means over its samples, close to normal); pixels
 //    are taken as independent. The same mean with more noise (a sampler that
 //    got worse) fails only this test, reported separately.
-// Pixels whose values repeat (has_few_distinct_values, a quasi-Monte Carlo
-// render) are not pixel-tested; the tile and image tests still see them.
+// Pixels whose values repeat (has_few_distinct_values: a quasi-Monte Carlo
+// render, or a discrete estimate such as k light hits of 16 samples), or
+// that are constant on each side at different values (all K renders of side
+// A hit the light 0 times, all of B once), are not pixel-tested: their
+// spread says nothing of their error. The tile and image tests still see
+// them, and there a zero spread on both sides demands exact agreement.
 //
 // Levels. The family-wise α is split by Šidák among the four families
 // (kCompareFamilies), and within each family by Šidák over its tests
@@ -100,7 +104,7 @@ struct ChannelComparison {
   double median_tile_detectable_relative_difference = 0;  // over tiles with mean_b > 0
   // Pixels.
   int pixel_failures = 0;
-  int pixels_few_values = 0;  // not tested (see the header)
+  int pixels_few_values = 0;  // repeating or constant-apart values: not tested (see the header)
   double pixel_alpha = 0;
   double worst_pixel_t = 0;
   int worst_pixel_x = 0, worst_pixel_y = 0;
