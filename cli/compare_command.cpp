@@ -27,6 +27,10 @@ CLI::App* add_compare_command(CLI::App& app, verify::CompareOptions& o) {
       ->capture_default_str()->check(number_in(0, 1, End::kOpen));
   command->add_option("--tile", o.tile_size, "Tile size in pixels: the tile-mean tests use tile x tile blocks")
       ->capture_default_str()->transform(integer_in(1, 4096))->type_name("N");
+  command->add_flag_function(
+      "--no-variance-test", [&o](int64_t) { o.test_variance = false; },
+      "Compare only the means (image, tiles, pixels), not the noise: for two renderers or samplers, whose variance "
+      "legitimately differs");
   const std::map<std::string, verify::ChannelMode> channel_modes{{"gray", verify::ChannelMode::kGray},
                                                                  {"rgb", verify::ChannelMode::kRgb}};
   command->add_option("--channels", o.channels, "gray: test the mean of R, G, B (or Y); rgb: test R, G and B separately")

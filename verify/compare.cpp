@@ -254,7 +254,7 @@ void test_pixels(const SideChannel& a, const SideChannel& b, size_t n, double al
   median_threshold = critical_t(median_dof, alpha);
 }
 
-void test_variance(const SideChannel& a, const SideChannel& b, size_t n, double alpha, ChannelComparison& cc) {
+void test_variance_ratio(const SideChannel& a, const SideChannel& b, size_t n, double alpha, ChannelComparison& cc) {
   cc.variance_alpha = alpha;
   cc.variance_threshold = stats::normal_upper_quantile(alpha / 2);
   double var_sum_a = 0, var_sum_b = 0;
@@ -381,7 +381,7 @@ void validate_compare_input(const CompareSide& a, const CompareSide& b) {
 }
 
 CompareResult compare_renders(const CompareSide& a, const CompareSide& b, double alpha,
-                              double max_detectable_difference, int tile_size) {
+                              double max_detectable_difference, int tile_size, bool test_variance) {
   validate_compare_input(a, b);
   FURNACE_CHECK(tile_size >= 1);
   CompareResult r;
@@ -398,7 +398,8 @@ CompareResult compare_renders(const CompareSide& a, const CompareSide& b, double
   const size_t channels = first.channels.size();
   const size_t n = size_t(r.width) * size_t(r.height);
   const size_t tiles = size_t((r.width + tile_size - 1) / tile_size) * size_t((r.height + tile_size - 1) / tile_size);
-  const double alpha_family = stats::sidak_alpha(alpha, kCompareFamilies);
+  r.families = test_variance ? kCompareFamilies : kCompareFamilies - 1;
+  const double alpha_family = stats::sidak_alpha(alpha, size_t(r.families));
   const double alpha_mean = stats::sidak_alpha(alpha_family, channels);
   const double alpha_tile = stats::sidak_alpha(alpha_family, channels * tiles);
   const double alpha_pixel = stats::sidak_alpha(alpha_family, channels * n);
@@ -417,7 +418,10 @@ CompareResult compare_renders(const CompareSide& a, const CompareSide& b, double
     test_image_mean(sa, sb, r.width, r.height, alpha_mean, cc);
     test_tiles(sa, sb, r.width, r.height, tile_size, alpha_tile, cc);
     test_pixels(sa, sb, n, alpha_pixel, cc, r.pixel_t[c], r.pixel_threshold[c]);
-    test_variance(sa, sb, n, alpha_variance, cc);
+    if (test_variance)
+      test_variance_ratio(sa, sb, n, alpha_variance, cc);
+    else
+      cc.variance_tested = false;
     mean_rejects = mean_rejects || !cc.image_mean_pass;
     tile_rejects = tile_rejects || cc.tile_failures > 0;
     pixel_rejects = pixel_rejects || cc.pixel_failures > 0;

@@ -75,7 +75,7 @@ inline constexpr double kDefaultMaxDetectableDifference = 0.01;
 // a tile mean's noise is 1/8 of a pixel's.
 inline constexpr int kDefaultTileSize = 8;
 // The four test families sharing the family-wise α (Šidák): image mean,
-// tiles, pixels, variance.
+// tiles, pixels, variance (three without the variance test).
 inline constexpr int kCompareFamilies = 4;
 
 enum class CompareVerdict { kSame, kDifferent, kInconclusive };
@@ -109,7 +109,8 @@ struct ChannelComparison {
   double worst_pixel_t = 0;
   int worst_pixel_x = 0, worst_pixel_y = 0;
   double median_pixel_detectable_relative_difference = 0;  // over pixels with mean_b > 0
-  // Variance.
+  // Variance (not run when the comparison leaves it out: variance_tested false).
+  bool variance_tested = true;
   double sum_variance_a = 0, sum_variance_b = 0;  // Σ over pixels of one render's pixel variance
   double variance_ratio = 1;                      // sum_variance_a / sum_variance_b
   double log_ratio_standard_error = 0;
@@ -136,6 +137,7 @@ struct CompareResult {
   int width = 0, height = 0, tile_size = 0;
   std::string method_a, method_b;  // "K renders" or "furnace variance"
   double alpha = 0, max_detectable_difference = 0;
+  int families = kCompareFamilies;  // sharing alpha: 4, or 3 without the variance test
   std::vector<ChannelComparison> channels;
   std::vector<std::vector<double>> pixel_t;  // [channel][pixel], for --zmap
   std::vector<double> pixel_threshold;       // per channel: critical |t| of the median pixel
@@ -154,8 +156,11 @@ struct CompareResult {
 // with identical pixels (one render given twice, on one side or both).
 void validate_compare_input(const CompareSide& a, const CompareSide& b);
 
-// Runs every test; validates first (validate_compare_input).
+// Runs every test; validates first (validate_compare_input). Without
+// `test_variance` (two renderers or samplers, whose noise legitimately
+// differs) only the means are compared, the α shared by three families.
 CompareResult compare_renders(const CompareSide& a, const CompareSide& b, double alpha,
-                              double max_detectable_difference, int tile_size = kDefaultTileSize);
+                              double max_detectable_difference, int tile_size = kDefaultTileSize,
+                              bool test_variance = true);
 
 }  // namespace furnace::verify

@@ -66,7 +66,7 @@ json compare_json(const CompareSide& a, const CompareSide& b, const CompareResul
   j["tile_size"] = r.tile_size;
   j["channels_mode"] = channel_mode_name(options.channels);
   j["alpha"] = r.alpha;
-  j["families"] = kCompareFamilies;
+  j["families"] = r.families;
   j["power"] = kReportedPower;
   j["spread_confidence"] = kSpreadConfidence;
   j["max_detectable_difference"] = r.max_detectable_difference;
@@ -99,7 +99,8 @@ json compare_json(const CompareSide& a, const CompareSide& b, const CompareResul
                      {"worst_x", cc.worst_pixel_x},
                      {"worst_y", cc.worst_pixel_y},
                      {"median_detectable_relative_difference", number(cc.median_pixel_detectable_relative_difference)}}},
-         {"variance", {{"sum_a", number(cc.sum_variance_a)},
+         {"variance", {{"tested", cc.variance_tested},
+                       {"sum_a", number(cc.sum_variance_a)},
                        {"sum_b", number(cc.sum_variance_b)},
                        {"ratio", number(cc.variance_ratio)},
                        {"log_ratio_standard_error", number(cc.log_ratio_standard_error)},
@@ -155,9 +156,9 @@ std::string format_compare(const CompareResult& r) {
   out += fmt::format("{}; {}; {}x{} pixels, tiles of {}x{}, channels {}\n", side_text("A", r.images_a, r.method_a),
                      side_text("B", r.images_b, r.method_b), r.width, r.height, r.tile_size, r.tile_size,
                      channels == 1 ? r.channels[0].channel : "R, G, B separately");
-  out += fmt::format("family-wise alpha {} shared (Sidak) by {} families: image mean, tiles, pixels, variance; "
+  out += fmt::format("family-wise alpha {} shared (Sidak) by {} families: image mean, tiles, pixels{}; "
                      "Welch t with Welch-Satterthwaite d.o.f.\n",
-                     r.alpha, kCompareFamilies);
+                     r.alpha, r.families, r.families == kCompareFamilies ? ", variance" : "");
   out += fmt::format("detectable difference: relative to B, found with power {} (noncentral t), the spread at its {} "
                      "upper confidence bound\n",
                      kReportedPower, kSpreadConfidence);
@@ -183,10 +184,13 @@ std::string format_compare(const CompareResult& r) {
                        "{})), median detectable pixel difference {}\n",
                        label, cc.pixel_failures, r.width * r.height, few, r.pixel_threshold[c], cc.worst_pixel_t,
                        cc.worst_pixel_x, cc.worst_pixel_y, percent(cc.median_pixel_detectable_relative_difference));
-    out += fmt::format("variance{}: one render's summed pixel variance A/B = {:.4g}, z {:.3f} (critical {:.3f}): {}; "
-                       "detectable ratio {:.4g}\n",
-                       label, cc.variance_ratio, cc.variance_statistic, cc.variance_threshold,
-                       cc.variance_pass ? "same" : "DIFFERENT", cc.detectable_variance_ratio);
+    if (!cc.variance_tested)
+      out += fmt::format("variance{}: not tested (--no-variance-test)\n", label);
+    else
+      out += fmt::format("variance{}: one render's summed pixel variance A/B = {:.4g}, z {:.3f} (critical {:.3f}): {}; "
+                         "detectable ratio {:.4g}\n",
+                         label, cc.variance_ratio, cc.variance_statistic, cc.variance_threshold,
+                         cc.variance_pass ? "same" : "DIFFERENT", cc.detectable_variance_ratio);
   }
   if (!r.rejected.empty()) out += fmt::format("different in: {}\n", joined(r.rejected));
   if (r.advice.needed) out += advice_text(r);
@@ -198,7 +202,8 @@ int run_compare(const CompareOptions& options) {
   try {
     const CompareSide a = read_side(options.a_paths, options.channels);
     const CompareSide b = read_side(options.b_paths, options.channels);
-    const CompareResult r = compare_renders(a, b, options.alpha, options.max_detectable_difference, options.tile_size);
+    const CompareResult r = compare_renders(a, b, options.alpha, options.max_detectable_difference, options.tile_size,
+                                            options.test_variance);
     const std::vector<std::string> warnings = compare_warnings(a, b);
     for (const std::string& w : warnings) std::fprintf(stderr, "furnace: warning: %s\n", w.c_str());
     if (!options.zmap_path.empty()) {

@@ -27,6 +27,7 @@ struct CompareOptions {
   double alpha = 0.01;
   double max_detectable_difference = kDefaultMaxDetectableDifference;
   int tile_size = kDefaultTileSize;
+  bool test_variance = true;  // false: --no-variance-test
   ChannelMode channels = ChannelMode::kGray;
   std::string zmap_path;  // empty: none
   std::string json_path;  // empty: none; "-": stdout

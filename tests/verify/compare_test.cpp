@@ -169,6 +169,17 @@ TEST(Compare, DoubledVarianceWithTheSameMeanFailsTheVarianceTestOnly) {
   EXPECT_LT(c.detectable_variance_ratio, 1.5);
 }
 
+TEST(Compare, WithoutTheVarianceTestADoubledVarianceIsSame) {
+  // Two renderers (or samplers) with different noise and the same mean.
+  const CompareResult r = compare_renders(synthetic({.sigma = kPixelNoise * std::sqrt(2.0)}),
+                                          synthetic({.seed = kSeedB}), kAlpha, kDefaultMaxDetectableDifference,
+                                          kDefaultTileSize, false);
+  EXPECT_EQ(r.verdict, CompareVerdict::kSame) << format_compare(r);
+  EXPECT_EQ(r.families, kCompareFamilies - 1);
+  EXPECT_FALSE(r.channels[0].variance_tested);
+  EXPECT_NE(format_compare(r).find("not tested"), std::string::npos);
+}
+
 TEST(Compare, ColourErrorKeepingTheGrayMeanFailsOnlyPerChannel) {
   // R +3 %, B −3 %: the gray mean is unchanged.
   const Synthetic colour{.r_gain = 1.03, .b_gain = 0.97};
