@@ -41,6 +41,9 @@ CLI::App* add_compare_command(CLI::App& app, verify::CompareOptions& o) {
   command->add_option("--json", o.json_path, "Write every number of the report as JSON to FILE ('-': stdout, "
                       "the text report then goes to stderr)")
       ->check(output_file(true).description(""))->type_name("FILE");
+  command->add_option("--html", o.html_dir, "Write DIR/index.html: both means, their difference, the pixel and tile "
+                      "t maps (needs Python 3 with matplotlib)")
+      ->check(output_directory().description(""))->type_name("DIR");
   command->footer(
       "Tests, each side's error bars from its K renders (or the furnace EXR's variance): Welch t of the image mean, "
       "of every tile mean and of every pixel, and a z-test of the ratio of the summed pixel variances; the family-wise "

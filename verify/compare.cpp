@@ -191,7 +191,7 @@ void test_image_mean(const SideChannel& a, const SideChannel& b, int width, int 
 }
 
 void test_tiles(const SideChannel& a, const SideChannel& b, int width, int height, int tile, double alpha,
-                ChannelComparison& cc) {
+                ChannelComparison& cc, std::vector<double>& tile_t) {
   cc.tile_alpha = alpha;
   const double z = stats::normal_upper_quantile(alpha / 2);
   std::vector<double> relative_se, dofs;
@@ -200,6 +200,7 @@ void test_tiles(const SideChannel& a, const SideChannel& b, int width, int heigh
       const Region r{x0, y0, std::min(x0 + tile, width), std::min(y0 + tile, height)};
       const stats::MeanEstimate ea = a.region(r), eb = b.region(r);
       const stats::WelchStatistic w = welch(ea, eb);
+      tile_t.push_back(w.statistic);
       ++cc.tiles;
       if (welch_rejects(w, alpha, z)) ++cc.tile_failures;
       if (std::fabs(w.statistic) > std::fabs(cc.worst_tile_t) || cc.tiles == 1) {
@@ -409,6 +410,11 @@ CompareResult compare_renders(const CompareSide& a, const CompareSide& b, double
   double advice_renders = 0, advice_factor = 0;
   bool advice_beyond = false;
   r.pixel_t.resize(channels);
+  r.mean_a.assign(channels, std::vector<double>(n));
+  r.mean_b.assign(channels, std::vector<double>(n));
+  r.tile_t.resize(channels);
+  r.tiles_x = (r.width + tile_size - 1) / tile_size;
+  r.tiles_y = (r.height + tile_size - 1) / tile_size;
   r.pixel_threshold.resize(channels);
   bool mean_rejects = false, tile_rejects = false, pixel_rejects = false, variance_rejects = false;
   for (size_t c = 0; c < channels; ++c) {
@@ -416,7 +422,11 @@ CompareResult compare_renders(const CompareSide& a, const CompareSide& b, double
     ChannelComparison cc;
     cc.channel = first.channels[c];
     test_image_mean(sa, sb, r.width, r.height, alpha_mean, cc);
-    test_tiles(sa, sb, r.width, r.height, tile_size, alpha_tile, cc);
+    test_tiles(sa, sb, r.width, r.height, tile_size, alpha_tile, cc, r.tile_t[c]);
+    for (size_t i = 0; i < n; ++i) {
+      r.mean_a[c][i] = sa.pixel(i).mean;
+      r.mean_b[c][i] = sb.pixel(i).mean;
+    }
     test_pixels(sa, sb, n, alpha_pixel, cc, r.pixel_t[c], r.pixel_threshold[c]);
     if (test_variance)
       test_variance_ratio(sa, sb, n, alpha_variance, cc);

@@ -140,6 +140,9 @@ struct CompareResult {
   int families = kCompareFamilies;  // sharing alpha: 4, or 3 without the variance test
   std::vector<ChannelComparison> channels;
   std::vector<std::vector<double>> pixel_t;  // [channel][pixel], for --zmap
+  std::vector<std::vector<double>> mean_a, mean_b;  // [channel][pixel]: each side's mean image, for --html
+  int tiles_x = 0, tiles_y = 0;
+  std::vector<std::vector<double>> tile_t;  // [channel][tile], row-major over tiles_x × tiles_y
   std::vector<double> pixel_threshold;       // per channel: critical |t| of the median pixel
   double detectable_relative_difference = 0;  // largest over channels
   bool image_mean_has_power = false;

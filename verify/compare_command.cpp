@@ -2,14 +2,18 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <system_error>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "verify/check.h"
 #include "verify/check_command.h"
 #include "verify/harness.h"
+#include "verify/report_html.h"
 
 namespace furnace::verify {
 
@@ -128,6 +132,49 @@ json compare_json(const CompareSide& a, const CompareSide& b, const CompareResul
   return j;
 }
 
+// The Python with matplotlib and scripts/plot_compare.py, the report's
+// plotting script's sibling (it imports that script's helpers).
+PlotTools compare_plot_tools() {
+  PlotTools tools = find_plot_tools();
+  const std::filesystem::path script = std::filesystem::path(tools.script).parent_path() / "plot_compare.py";
+  if (!std::filesystem::is_regular_file(script))
+    throw Error(fmt::format("--html needs the plotting script '{}' beside '{}', and it is missing.", script.string(),
+                            tools.script));
+  tools.script = script.string();
+  return tools;
+}
+
+void create_html_dir(const std::string& dir) {
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error || !std::filesystem::is_directory(dir))
+    throw Error(fmt::format("--html directory '{}' cannot be created ({}).", dir,
+                            error ? error.message() : "a file of that name exists"));
+}
+
+// compare.json: the JSON report plus every pixel the page draws.
+void write_html(const PlotTools& tools, const std::string& dir, json j, const CompareResult& r) {
+  json images = json::array();
+  for (size_t c = 0; c < r.channels.size(); ++c) {
+    std::vector<json> t(r.pixel_t[c].size()), tile_t(r.tile_t[c].size());
+    for (size_t i = 0; i < t.size(); ++i) t[i] = number(r.pixel_t[c][i]);
+    for (size_t i = 0; i < tile_t.size(); ++i) tile_t[i] = number(r.tile_t[c][i]);
+    images.push_back({{"channel", r.channels[c].channel},
+                      {"mean_a", r.mean_a[c]},
+                      {"mean_b", r.mean_b[c]},
+                      {"pixel_t", t},
+                      {"tile_t", tile_t}});
+  }
+  j["tiles_x"] = r.tiles_x;
+  j["tiles_y"] = r.tiles_y;
+  j["images"] = images;
+  j["report_text"] = format_compare(r);
+  write_text_file_atomically(std::filesystem::path(dir) / "compare.json", j.dump(), "compare JSON");
+  const int status = run_plot_script(tools, dir);
+  if (status != 0)
+    throw Error(fmt::format("the plotting script '{}' failed (exit {}) on '{}'.", tools.script, status, dir));
+}
+
 CompareSide read_side(const std::vector<std::string>& paths, ChannelMode mode) {
   CompareSide side;
   for (const std::string& path : paths) side.images.push_back(read_foreign_image(path, mode));
@@ -200,6 +247,11 @@ std::string format_compare(const CompareResult& r) {
 
 int run_compare(const CompareOptions& options) {
   try {
+    PlotTools tools;
+    if (!options.html_dir.empty()) {
+      tools = compare_plot_tools();
+      create_html_dir(options.html_dir);
+    }
     const CompareSide a = read_side(options.a_paths, options.channels);
     const CompareSide b = read_side(options.b_paths, options.channels);
     const CompareResult r = compare_renders(a, b, options.alpha, options.max_detectable_difference, options.tile_size,
@@ -215,6 +267,7 @@ int run_compare(const CompareOptions& options) {
     const std::string text = format_compare(r);
     std::fputs(text.c_str(), options.json_path == "-" ? stderr : stdout);
     if (!options.json_path.empty()) emit_json(options.json_path, compare_json(a, b, r, warnings, options));
+    if (!options.html_dir.empty()) write_html(tools, options.html_dir, compare_json(a, b, r, warnings, options), r);
     return exit_code(r.verdict);
   } catch (const Error& e) {
     if (!options.json_path.empty()) {

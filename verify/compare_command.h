@@ -31,6 +31,11 @@ struct CompareOptions {
   ChannelMode channels = ChannelMode::kGray;
   std::string zmap_path;  // empty: none
   std::string json_path;  // empty: none; "-": stdout
+  // empty: none; else DIR/compare.json (the JSON report with every pixel)
+  // and DIR/index.html with DIR/compare_<channel>.png, drawn by
+  // scripts/plot_compare.py with the report's plotting (verify/report_html.h
+  // finds Python with matplotlib; none is bad input, found before any work).
+  std::string html_dir;
 };
 
 // Reads both sides, runs the comparison and prints its report; returns the
