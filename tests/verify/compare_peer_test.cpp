@@ -8,6 +8,10 @@
 // pbrt-v4 is found as tests/export/pbrt_peer_test.cpp finds it: FURNACE_PBRT,
 // else the shared peer build beside the repository, else `pbrt` on PATH;
 // without it those tests say "skipped: no pbrt-v4 (set FURNACE_PBRT)".
+//  - Blender Cycles with its two sampling patterns (Sobol-Burley, the
+//    export's, and progressive multi-jitter) → SAME, and pbrt-v4 against
+//    Cycles → SAME, both means only (--no-variance-test: other samplers);
+//    Blender is found as FURNACE_BLENDER, else `blender` on PATH.
 // Each prints K, spp, verdict, image-mean t and the detectable difference.
 #include <gtest/gtest.h>
 
@@ -15,6 +19,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -23,6 +28,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/scene.h"
+#include "export/cycles.h"
 #include "export/pbrt_v4.h"
 #include "tests/export/peer_support.h"
 
@@ -50,6 +56,17 @@ std::optional<fs::path> pbrt_binary() {
   if (exporter::peer::is_executable_file(shared)) return shared;
   return exporter::peer::find_on_path("pbrt");
 }
+
+std::optional<fs::path> blender_binary() {
+  const char* forced = std::getenv("FURNACE_BLENDER");
+  if (forced && *forced) return fs::path(forced);
+  return exporter::peer::find_on_path("blender");
+}
+
+// The export script's sampling-pattern line, and progressive multi-jitter's
+// name for it (Blender 3.x).
+constexpr const char* kSobolBurleyLine = "cy.sampling_pattern = 'SOBOL'";
+constexpr const char* kPmjLine = "cy.sampling_pattern = 'PROGRESSIVE_MULTI_JITTER'";
 
 class ComparePeer : public testing::Test {
  protected:
@@ -98,6 +115,32 @@ class ComparePeer : public testing::Test {
       EXPECT_EQ(r.exit_code, 0) << r.output;
       images.push_back(image);
     }
+    return images;
+  }
+
+  // K Cycles renders of the exported scene with seeds first_seed ..., in one
+  // Blender process; `pmj` switches the sampling pattern to progressive
+  // multi-jitter.
+  std::vector<fs::path> cycles_renders(const fs::path& blender, const std::string& name, int first_seed, bool pmj) {
+    const fs::path script = dir_ / (name + ".py");
+    exporter::CyclesOptions options;
+    options.spp = kSpp;
+    exporter::write_cycles(load_scene(scene_file()), options, script);
+    if (pmj) {
+      std::string text = read_text(script);
+      const size_t at = text.find(kSobolBurleyLine);
+      EXPECT_NE(at, std::string::npos) << "the Cycles export no longer sets " << kSobolBurleyLine;
+      if (at == std::string::npos) return {};
+      text.replace(at, std::string(kSobolBurleyLine).size(), kPmjLine);
+      std::ofstream(script) << text;
+    }
+    const auto r = run(fmt::format("{} -b --factory-startup --python-exit-code 1 --python {} -- --seeds {}-{} "
+                                   "--output {} --threads 2",
+                                   quoted(blender), quoted(script), first_seed, first_seed + kRenders - 1,
+                                   quoted(dir_ / (name + "_{seed}.exr"))));
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    std::vector<fs::path> images;
+    for (int i = 0; i < kRenders; ++i) images.push_back(dir_ / fmt::format("{}_{}.exr", name, first_seed + i));
     return images;
   }
 
@@ -150,6 +193,25 @@ TEST_F(ComparePeer, PbrtAgainstFurnaceMeansAreSame) {
   if (!pbrt) GTEST_SKIP() << "skipped: no pbrt-v4 (set FURNACE_PBRT)";
   EXPECT_EQ(compare("pbrt-v4 vs furnace light_area, --no-variance-test", pbrt_renders(*pbrt, "pbrt", kFirstSeedA),
                     furnace_renders("furnace", kFirstSeedB, "none"), "--no-variance-test"),
+            0);
+}
+
+TEST_F(ComparePeer, CyclesSobolBurleyAgainstPmjIsSame) {
+  const auto blender = blender_binary();
+  if (!blender) GTEST_SKIP() << "skipped: no Blender (set FURNACE_BLENDER)";
+  EXPECT_EQ(compare("Cycles progressive multi-jitter vs Sobol-Burley, --no-variance-test",
+                    cycles_renders(*blender, "pmj", kFirstSeedA, true),
+                    cycles_renders(*blender, "sobol", kFirstSeedB, false), "--no-variance-test"),
+            0);
+}
+
+TEST_F(ComparePeer, PbrtAgainstCyclesIsSame) {
+  const auto pbrt = pbrt_binary();
+  const auto blender = blender_binary();
+  if (!pbrt) GTEST_SKIP() << "skipped: no pbrt-v4 (set FURNACE_PBRT)";
+  if (!blender) GTEST_SKIP() << "skipped: no Blender (set FURNACE_BLENDER)";
+  EXPECT_EQ(compare("pbrt-v4 vs Cycles (Sobol-Burley), --no-variance-test", pbrt_renders(*pbrt, "pbrt", kFirstSeedA),
+                    cycles_renders(*blender, "cycles", kFirstSeedB, false), "--no-variance-test"),
             0);
 }
 
