@@ -124,7 +124,8 @@ class PowerFactor {
   double operator()(double dof) {
     auto [at, fresh] = cache_.try_emplace(dof, 0.0);
     if (fresh)
-      at->second = detectable_noncentrality(dof, alpha_, kReportedPower) * spread_upper_bound_factor(dof, kSpreadConfidence);
+      at->second =
+          detectable_noncentrality(dof, alpha_, kReportedPower) * spread_upper_bound_factor(dof, kSpreadConfidence);
     return at->second;
   }
 
@@ -251,7 +252,8 @@ void test_pixels(const SideChannel& a, const SideChannel& b, size_t n, double al
   }
   PowerFactor power(alpha);
   const double median_dof = dofs.empty() ? kInf : stats::median(dofs);
-  cc.median_pixel_detectable_relative_difference = relative_se.empty() ? 0 : power(median_dof) * stats::median(relative_se);
+  cc.median_pixel_detectable_relative_difference =
+      relative_se.empty() ? 0 : power(median_dof) * stats::median(relative_se);
   median_threshold = critical_t(median_dof, alpha);
 }
 
@@ -315,15 +317,17 @@ void require_side(const CompareSide& side, const char* name) {
   if (side.images.empty()) throw Error(fmt::format("side {} has no images; give at least one --{}.", name, name));
   const ForeignImage& img = side.images[0];
   if (side.images.size() == 1 && !img.has_variance())
-    throw Error(fmt::format("side {} has only image '{}', which has no variance and N channels; a side needs at least "
-                            "two independent renders (different seeds) or one furnace EXR.",
-                            name, img.path));
+    throw Error(
+        fmt::format("side {} has only image '{}', which has no variance and N channels; a side needs at least "
+                    "two independent renders (different seeds) or one furnace EXR.",
+                    name, img.path));
   if (side.images.size() == 1)
     for (size_t i = 0; i < img.count.size(); ++i)
       if (img.count[i] < 2)
-        throw Error(fmt::format("image '{}' has N = {} samples at pixel {}; one image alone needs at least 2 per pixel "
-                                "to estimate its variance.",
-                                img.path, img.count[i], pixel_name(i, img.width)));
+        throw Error(
+            fmt::format("image '{}' has N = {} samples at pixel {}; one image alone needs at least 2 per pixel "
+                        "to estimate its variance.",
+                        img.path, img.count[i], pixel_name(i, img.width)));
 }
 
 bool same_file(const std::string& a, const std::string& b) {
@@ -336,18 +340,24 @@ bool same_file(const std::string& a, const std::string& b) {
 
 std::string verdict_name(CompareVerdict v) {
   switch (v) {
-    case CompareVerdict::kSame: return "SAME";
-    case CompareVerdict::kDifferent: return "DIFFERENT";
-    case CompareVerdict::kInconclusive: return "INCONCLUSIVE";
+    case CompareVerdict::kSame:
+      return "SAME";
+    case CompareVerdict::kDifferent:
+      return "DIFFERENT";
+    case CompareVerdict::kInconclusive:
+      return "INCONCLUSIVE";
   }
   return "?";
 }
 
 int exit_code(CompareVerdict v) {
   switch (v) {
-    case CompareVerdict::kSame: return 0;
-    case CompareVerdict::kDifferent: return 1;
-    case CompareVerdict::kInconclusive: return 3;
+    case CompareVerdict::kSame:
+      return 0;
+    case CompareVerdict::kDifferent:
+      return 1;
+    case CompareVerdict::kInconclusive:
+      return 3;
   }
   return 1;
 }
@@ -364,9 +374,10 @@ void validate_compare_input(const CompareSide& a, const CompareSide& b) {
       throw Error(fmt::format("image '{}' is {}x{} pixels but '{}' is {}x{}; both sides must have one resolution.",
                               img->path, img->width, img->height, first.path, first.width, first.height));
     if (img->source_channels != first.source_channels)
-      throw Error(fmt::format("image '{}' is tested from its channels {} but '{}' from {}; both sides must hold the "
-                              "same channels.",
-                              img->path, img->source_channels, first.path, first.source_channels));
+      throw Error(
+          fmt::format("image '{}' is tested from its channels {} but '{}' from {}; both sides must hold the "
+                      "same channels.",
+                      img->path, img->source_channels, first.path, first.source_channels));
   }
   for (const ForeignImage& x : a.images)
     for (const ForeignImage& y : b.images)
@@ -376,9 +387,10 @@ void validate_compare_input(const CompareSide& a, const CompareSide& b) {
   for (size_t i = 0; i < all.size(); ++i)
     for (size_t j = i + 1; j < all.size(); ++j)
       if (all[i]->value == all[j]->value)
-        throw Error(fmt::format("images '{}' and '{}' hold identical pixels; independent renders (different seeds) "
-                                "are needed, and one render given twice has no spread.",
-                                all[i]->path, all[j]->path));
+        throw Error(
+            fmt::format("images '{}' and '{}' hold identical pixels; independent renders (different seeds) "
+                        "are needed, and one render given twice has no spread.",
+                        all[i]->path, all[j]->path));
 }
 
 CompareResult compare_renders(const CompareSide& a, const CompareSide& b, double alpha,

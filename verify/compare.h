@@ -99,8 +99,8 @@ struct ChannelComparison {
   // Tiles.
   int tiles = 0, tile_failures = 0;
   double tile_alpha = 0;
-  double worst_tile_t = 0;  // largest |t| (signed)
-  int worst_tile_x = 0, worst_tile_y = 0;  // its top-left pixel
+  double worst_tile_t = 0;                                // largest |t| (signed)
+  int worst_tile_x = 0, worst_tile_y = 0;                 // its top-left pixel
   double median_tile_detectable_relative_difference = 0;  // over tiles with mean_b > 0
   // Pixels.
   int pixel_failures = 0;
@@ -127,8 +127,8 @@ struct ChannelComparison {
 // render), or the current K at spp × factor (spread falling as 1/√spp).
 struct CompareAdvice {
   bool needed = false;
-  int renders_per_side = 0;  // 0: more than 10⁶
-  double spp_factor = 0;     // at the current K on both sides
+  int renders_per_side = 0;                     // 0: more than 10⁶
+  double spp_factor = 0;                        // at the current K on both sides
   double current_spp_a = 0, current_spp_b = 0;  // from provenance or N; 0 if unknown
 };
 
@@ -139,11 +139,11 @@ struct CompareResult {
   double alpha = 0, max_detectable_difference = 0;
   int families = kCompareFamilies;  // sharing alpha: 4, or 3 without the variance test
   std::vector<ChannelComparison> channels;
-  std::vector<std::vector<double>> pixel_t;  // [channel][pixel], for --zmap
+  std::vector<std::vector<double>> pixel_t;         // [channel][pixel], for --zmap
   std::vector<std::vector<double>> mean_a, mean_b;  // [channel][pixel]: each side's mean image, for --html
   int tiles_x = 0, tiles_y = 0;
-  std::vector<std::vector<double>> tile_t;  // [channel][tile], row-major over tiles_x × tiles_y
-  std::vector<double> pixel_threshold;       // per channel: critical |t| of the median pixel
+  std::vector<std::vector<double>> tile_t;    // [channel][tile], row-major over tiles_x × tiles_y
+  std::vector<double> pixel_threshold;        // per channel: critical |t| of the median pixel
   double detectable_relative_difference = 0;  // largest over channels
   bool image_mean_has_power = false;
   // Which families rejected, in the order mean, tiles, pixels, variance.

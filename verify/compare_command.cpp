@@ -21,7 +21,9 @@ namespace {
 
 using nlohmann::json;
 
-std::string percent(double relative) { return std::isfinite(relative) ? fmt::format("{:.3g}%", 100 * relative) : "inf"; }
+std::string percent(double relative) {
+  return std::isfinite(relative) ? fmt::format("{:.3g}%", 100 * relative) : "inf";
+}
 std::string dof_text(double dof) { return std::isfinite(dof) ? fmt::format("{:.3g} d.o.f.", dof) : "normal"; }
 json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
@@ -45,8 +47,9 @@ std::string advice_text(const CompareResult& r) {
   if (a.current_spp_a > 0 && a.current_spp_b > 0)
     text += fmt::format(" ({:.3g} and {:.3g} spp)", std::ceil(a.spp_factor * a.current_spp_a),
                         std::ceil(a.spp_factor * a.current_spp_b));
-  text += "; assumes each side's render-to-render spread of the image mean is the observed one and falls as "
-          "1/sqrt(spp)\n";
+  text +=
+      "; assumes each side's render-to-render spread of the image mean is the observed one and falls as "
+      "1/sqrt(spp)\n";
   return text;
 }
 
@@ -79,40 +82,44 @@ json compare_json(const CompareSide& a, const CompareSide& b, const CompareResul
     const ChannelComparison& cc = r.channels[c];
     channels.push_back(
         {{"channel", cc.channel},
-         {"image_mean", {{"a", estimate_json(cc.mean_a)},
-                         {"b", estimate_json(cc.mean_b)},
-                         {"relative_difference", number(cc.mean_a.mean / cc.mean_b.mean - 1)},
-                         {"t", number(cc.statistic)},
-                         {"threshold", number(cc.threshold)},
-                         {"dof", number(cc.dof)},
-                         {"alpha", cc.alpha},
-                         {"detectable_relative_difference", number(cc.detectable_relative_difference)},
-                         {"pass", cc.image_mean_pass}}},
-         {"tiles", {{"tiles", cc.tiles},
-                    {"failures", cc.tile_failures},
-                    {"alpha", cc.tile_alpha},
-                    {"worst_t", number(cc.worst_tile_t)},
-                    {"worst_x", cc.worst_tile_x},
-                    {"worst_y", cc.worst_tile_y},
-                    {"median_detectable_relative_difference", number(cc.median_tile_detectable_relative_difference)}}},
-         {"pixels", {{"failures", cc.pixel_failures},
-                     {"few_values", cc.pixels_few_values},
-                     {"alpha", cc.pixel_alpha},
-                     {"median_threshold", number(r.pixel_threshold[c])},
-                     {"worst_t", number(cc.worst_pixel_t)},
-                     {"worst_x", cc.worst_pixel_x},
-                     {"worst_y", cc.worst_pixel_y},
-                     {"median_detectable_relative_difference", number(cc.median_pixel_detectable_relative_difference)}}},
-         {"variance", {{"tested", cc.variance_tested},
-                       {"sum_a", number(cc.sum_variance_a)},
-                       {"sum_b", number(cc.sum_variance_b)},
-                       {"ratio", number(cc.variance_ratio)},
-                       {"log_ratio_standard_error", number(cc.log_ratio_standard_error)},
-                       {"z", number(cc.variance_statistic)},
-                       {"threshold", number(cc.variance_threshold)},
-                       {"alpha", cc.variance_alpha},
-                       {"detectable_ratio", number(cc.detectable_variance_ratio)},
-                       {"pass", cc.variance_pass}}}});
+         {"image_mean",
+          {{"a", estimate_json(cc.mean_a)},
+           {"b", estimate_json(cc.mean_b)},
+           {"relative_difference", number(cc.mean_a.mean / cc.mean_b.mean - 1)},
+           {"t", number(cc.statistic)},
+           {"threshold", number(cc.threshold)},
+           {"dof", number(cc.dof)},
+           {"alpha", cc.alpha},
+           {"detectable_relative_difference", number(cc.detectable_relative_difference)},
+           {"pass", cc.image_mean_pass}}},
+         {"tiles",
+          {{"tiles", cc.tiles},
+           {"failures", cc.tile_failures},
+           {"alpha", cc.tile_alpha},
+           {"worst_t", number(cc.worst_tile_t)},
+           {"worst_x", cc.worst_tile_x},
+           {"worst_y", cc.worst_tile_y},
+           {"median_detectable_relative_difference", number(cc.median_tile_detectable_relative_difference)}}},
+         {"pixels",
+          {{"failures", cc.pixel_failures},
+           {"few_values", cc.pixels_few_values},
+           {"alpha", cc.pixel_alpha},
+           {"median_threshold", number(r.pixel_threshold[c])},
+           {"worst_t", number(cc.worst_pixel_t)},
+           {"worst_x", cc.worst_pixel_x},
+           {"worst_y", cc.worst_pixel_y},
+           {"median_detectable_relative_difference", number(cc.median_pixel_detectable_relative_difference)}}},
+         {"variance",
+          {{"tested", cc.variance_tested},
+           {"sum_a", number(cc.sum_variance_a)},
+           {"sum_b", number(cc.sum_variance_b)},
+           {"ratio", number(cc.variance_ratio)},
+           {"log_ratio_standard_error", number(cc.log_ratio_standard_error)},
+           {"z", number(cc.variance_statistic)},
+           {"threshold", number(cc.variance_threshold)},
+           {"alpha", cc.variance_alpha},
+           {"detectable_ratio", number(cc.detectable_variance_ratio)},
+           {"pass", cc.variance_pass}}}});
   }
   j["channels"] = channels;
   j["detectable_relative_difference"] = number(r.detectable_relative_difference);
@@ -191,9 +198,10 @@ std::vector<std::string> compare_warnings(const CompareSide& a, const CompareSid
     warnings.push_back(fmt::format("image '{}' says it renders scene '{}' but '{}' says '{}'.", a.images[0].path,
                                    pa.scene, b.images[0].path, pb.scene));
   if (!pa.spp.empty() && !pb.spp.empty() && pa.spp != pb.spp)
-    warnings.push_back(fmt::format("image '{}' has {} spp but '{}' has {}; the variance test compares the noise of one "
-                                   "render, which differs with the spp.",
-                                   a.images[0].path, pa.spp, b.images[0].path, pb.spp));
+    warnings.push_back(
+        fmt::format("image '{}' has {} spp but '{}' has {}; the variance test compares the noise of one "
+                    "render, which differs with the spp.",
+                    a.images[0].path, pa.spp, b.images[0].path, pb.spp));
   return warnings;
 }
 
@@ -203,41 +211,46 @@ std::string format_compare(const CompareResult& r) {
   out += fmt::format("{}; {}; {}x{} pixels, tiles of {}x{}, channels {}\n", side_text("A", r.images_a, r.method_a),
                      side_text("B", r.images_b, r.method_b), r.width, r.height, r.tile_size, r.tile_size,
                      channels == 1 ? r.channels[0].channel : "R, G, B separately");
-  out += fmt::format("family-wise alpha {} shared (Sidak) by {} families: image mean, tiles, pixels{}; "
-                     "Welch t with Welch-Satterthwaite d.o.f.\n",
-                     r.alpha, r.families, r.families == kCompareFamilies ? ", variance" : "");
-  out += fmt::format("detectable difference: relative to B, found with power {} (noncentral t), the spread at its {} "
-                     "upper confidence bound\n",
-                     kReportedPower, kSpreadConfidence);
+  out += fmt::format(
+      "family-wise alpha {} shared (Sidak) by {} families: image mean, tiles, pixels{}; "
+      "Welch t with Welch-Satterthwaite d.o.f.\n",
+      r.alpha, r.families, r.families == kCompareFamilies ? ", variance" : "");
+  out += fmt::format(
+      "detectable difference: relative to B, found with power {} (noncentral t), the spread at its {} "
+      "upper confidence bound\n",
+      kReportedPower, kSpreadConfidence);
   for (size_t c = 0; c < channels; ++c) {
     const ChannelComparison& cc = r.channels[c];
     const std::string label = channels > 1 ? fmt::format(" [{}]", cc.channel) : "";
     const bool power = cc.detectable_relative_difference <= r.max_detectable_difference;
-    out += fmt::format("image mean{}: A {:.6g}, B {:.6g} ({:+.3g}%), t {:.3f} (critical {:.3f}, {}): {}; detectable "
-                       "difference {}: {}\n",
-                       label, cc.mean_a.mean, cc.mean_b.mean, 100 * (cc.mean_a.mean / cc.mean_b.mean - 1), cc.statistic,
-                       cc.threshold, dof_text(cc.dof), cc.image_mean_pass ? "same" : "DIFFERENT",
-                       percent(cc.detectable_relative_difference),
-                       power ? fmt::format("has power (<= {})", percent(r.max_detectable_difference))
-                             : fmt::format("LOW POWER (> {})", percent(r.max_detectable_difference)));
-    out += fmt::format("tiles{}: {}/{} differ (worst t {:.3g} at tile ({}, {})), median detectable tile difference {}\n",
-                       label, cc.tile_failures, cc.tiles, cc.worst_tile_t, cc.worst_tile_x, cc.worst_tile_y,
-                       percent(cc.median_tile_detectable_relative_difference));
+    out += fmt::format(
+        "image mean{}: A {:.6g}, B {:.6g} ({:+.3g}%), t {:.3f} (critical {:.3f}, {}): {}; detectable "
+        "difference {}: {}\n",
+        label, cc.mean_a.mean, cc.mean_b.mean, 100 * (cc.mean_a.mean / cc.mean_b.mean - 1), cc.statistic, cc.threshold,
+        dof_text(cc.dof), cc.image_mean_pass ? "same" : "DIFFERENT", percent(cc.detectable_relative_difference),
+        power ? fmt::format("has power (<= {})", percent(r.max_detectable_difference))
+              : fmt::format("LOW POWER (> {})", percent(r.max_detectable_difference)));
+    out +=
+        fmt::format("tiles{}: {}/{} differ (worst t {:.3g} at tile ({}, {})), median detectable tile difference {}\n",
+                    label, cc.tile_failures, cc.tiles, cc.worst_tile_t, cc.worst_tile_x, cc.worst_tile_y,
+                    percent(cc.median_tile_detectable_relative_difference));
     const std::string few = cc.pixels_few_values > 0
                                 ? fmt::format(", {} untested (their values repeat, as a quasi-Monte Carlo render's do)",
                                               cc.pixels_few_values)
                                 : "";
-    out += fmt::format("pixels{}: {}/{} differ{} (critical |t| {:.3g} for the median pixel; worst t {:.3g} at ({}, "
-                       "{})), median detectable pixel difference {}\n",
-                       label, cc.pixel_failures, r.width * r.height, few, r.pixel_threshold[c], cc.worst_pixel_t,
-                       cc.worst_pixel_x, cc.worst_pixel_y, percent(cc.median_pixel_detectable_relative_difference));
+    out += fmt::format(
+        "pixels{}: {}/{} differ{} (critical |t| {:.3g} for the median pixel; worst t {:.3g} at ({}, "
+        "{})), median detectable pixel difference {}\n",
+        label, cc.pixel_failures, r.width * r.height, few, r.pixel_threshold[c], cc.worst_pixel_t, cc.worst_pixel_x,
+        cc.worst_pixel_y, percent(cc.median_pixel_detectable_relative_difference));
     if (!cc.variance_tested)
       out += fmt::format("variance{}: not tested (--no-variance-test)\n", label);
     else
-      out += fmt::format("variance{}: one render's summed pixel variance A/B = {:.4g}, z {:.3f} (critical {:.3f}): {}; "
-                         "detectable ratio {:.4g}\n",
-                         label, cc.variance_ratio, cc.variance_statistic, cc.variance_threshold,
-                         cc.variance_pass ? "same" : "DIFFERENT", cc.detectable_variance_ratio);
+      out += fmt::format(
+          "variance{}: one render's summed pixel variance A/B = {:.4g}, z {:.3f} (critical {:.3f}): {}; "
+          "detectable ratio {:.4g}\n",
+          label, cc.variance_ratio, cc.variance_statistic, cc.variance_threshold,
+          cc.variance_pass ? "same" : "DIFFERENT", cc.detectable_variance_ratio);
   }
   if (!r.rejected.empty()) out += fmt::format("different in: {}\n", joined(r.rejected));
   if (r.advice.needed) out += advice_text(r);

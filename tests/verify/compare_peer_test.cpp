@@ -77,8 +77,10 @@ class ComparePeer : public testing::Test {
     fs::create_directories(dir_);
   }
   void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-    else std::printf("renders kept in %s\n", dir_.c_str());
+    if (!HasFailure())
+      fs::remove_all(dir_);
+    else
+      std::printf("renders kept in %s\n", dir_.c_str());
   }
 
   fs::path scene_file() const { return fs::path(FURNACE_SCENE_DIR) / (std::string(kScene) + ".json"); }
@@ -88,9 +90,10 @@ class ComparePeer : public testing::Test {
     std::vector<fs::path> images;
     for (int i = 0; i < kRenders; ++i) {
       const fs::path image = dir_ / fmt::format("{}_{}.exr", name, i);
-      const auto r = run(fmt::format("{} render --scene {} --strategy light_area --spp {} --seed {} --threads 2 "
-                                     "--defect {} --output {}",
-                                     FURNACE_CLI, quoted(scene_file()), kSpp, first_seed + i, defect, quoted(image)));
+      const auto r =
+          run(fmt::format("{} render --scene {} --strategy light_area --spp {} --seed {} --threads 2 "
+                          "--defect {} --output {}",
+                          FURNACE_CLI, quoted(scene_file()), kSpp, first_seed + i, defect, quoted(image)));
       EXPECT_EQ(r.exit_code, 0) << r.output;
       images.push_back(image);
     }
@@ -134,10 +137,10 @@ class ComparePeer : public testing::Test {
       text.replace(at, std::string(kSobolBurleyLine).size(), kPmjLine);
       std::ofstream(script) << text;
     }
-    const auto r = run(fmt::format("{} -b --factory-startup --python-exit-code 1 --python {} -- --seeds {}-{} "
-                                   "--output {} --threads 2",
-                                   quoted(blender), quoted(script), first_seed, first_seed + kRenders - 1,
-                                   quoted(dir_ / (name + "_{seed}.exr"))));
+    const auto r = run(fmt::format(
+        "{} -b --factory-startup --python-exit-code 1 --python {} -- --seeds {}-{} "
+        "--output {} --threads 2",
+        quoted(blender), quoted(script), first_seed, first_seed + kRenders - 1, quoted(dir_ / (name + "_{seed}.exr"))));
     EXPECT_EQ(r.exit_code, 0) << r.output;
     std::vector<fs::path> images;
     for (int i = 0; i < kRenders; ++i) images.push_back(dir_ / fmt::format("{}_{}.exr", name, first_seed + i));
@@ -156,13 +159,13 @@ class ComparePeer : public testing::Test {
     const nlohmann::json j = nlohmann::json::parse(read_text(json_file), nullptr, false);
     if (!j.is_discarded() && j.contains("channels")) {
       const nlohmann::json& m = j["channels"][0]["image_mean"];
-      std::printf("demonstration: %s, %s, K=%d per side, spp=%d: %s (exit %d), image-mean t %.3f, detectable "
-                  "difference %.3g%%\n",
-                  kScene, label.c_str(), kRenders, kSpp, j["verdict"].get<std::string>().c_str(), r.exit_code,
-                  m["t"].is_number() ? m["t"].get<double>() : NAN,
-                  100 * (m["detectable_relative_difference"].is_number()
-                             ? m["detectable_relative_difference"].get<double>()
-                             : NAN));
+      std::printf(
+          "demonstration: %s, %s, K=%d per side, spp=%d: %s (exit %d), image-mean t %.3f, detectable "
+          "difference %.3g%%\n",
+          kScene, label.c_str(), kRenders, kSpp, j["verdict"].get<std::string>().c_str(), r.exit_code,
+          m["t"].is_number() ? m["t"].get<double>() : NAN,
+          100 * (m["detectable_relative_difference"].is_number() ? m["detectable_relative_difference"].get<double>()
+                                                                 : NAN));
     }
     return r.exit_code;
   }
@@ -222,8 +225,8 @@ TEST_F(ComparePeer, FurnaceTwoSeedSetsAreSame) {
 }
 
 TEST_F(ComparePeer, FurnaceWithADefectIsDifferent) {
-  EXPECT_EQ(compare("furnace --defect drop_light_cosine vs without", furnace_renders("a", kFirstSeedA, "drop_light_cosine"),
-                    furnace_renders("b", kFirstSeedB, "none")),
+  EXPECT_EQ(compare("furnace --defect drop_light_cosine vs without",
+                    furnace_renders("a", kFirstSeedA, "drop_light_cosine"), furnace_renders("b", kFirstSeedB, "none")),
             1);
 }
 

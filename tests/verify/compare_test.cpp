@@ -59,6 +59,39 @@ struct Synthetic {
   double r_gain = 1, b_gain = 1;  // colour (rgb mode): R and B scaled, G not
   uint64_t seed = kSeedA;
   ChannelMode mode = ChannelMode::kGray;
+  // Setters, so that a test names what it changes: Synthetic().set_k(2).set_sigma(0.1).
+  Synthetic& set_k(int v) {
+    k = v;
+    return *this;
+  }
+  Synthetic& set_sigma(double v) {
+    sigma = v;
+    return *this;
+  }
+  Synthetic& set_gain(double v) {
+    gain = v;
+    return *this;
+  }
+  Synthetic& set_tile_gain(double v) {
+    tile_gain = v;
+    return *this;
+  }
+  Synthetic& set_r_gain(double v) {
+    r_gain = v;
+    return *this;
+  }
+  Synthetic& set_b_gain(double v) {
+    b_gain = v;
+    return *this;
+  }
+  Synthetic& set_seed(uint64_t v) {
+    seed = v;
+    return *this;
+  }
+  Synthetic& set_mode(ChannelMode v) {
+    mode = v;
+    return *this;
+  }
 };
 
 CompareSide synthetic(const Synthetic& s, const std::string& name = "s") {
@@ -101,7 +134,7 @@ bool has(const std::vector<std::string>& words, const std::string& w) {
 // Verdicts and negative controls.
 
 TEST(Compare, SameDistributionIsSameWithPower) {
-  const CompareResult r = compare_renders(synthetic({}), synthetic({.seed = kSeedB}), kAlpha,
+  const CompareResult r = compare_renders(synthetic(Synthetic()), synthetic(Synthetic().set_seed(kSeedB)), kAlpha,
                                           kDefaultMaxDetectableDifference);
   EXPECT_EQ(r.verdict, CompareVerdict::kSame) << format_compare(r);
   EXPECT_EQ(exit_code(r.verdict), 0);
@@ -119,8 +152,9 @@ TEST(Compare, SameDistributionIsSameWithPower) {
 }
 
 TEST(Compare, GlobalShiftIsDifferentThroughTheMean) {
-  const CompareResult r = compare_renders(synthetic({.gain = 1.02}), synthetic({.seed = kSeedB}), kAlpha,
-                                          kDefaultMaxDetectableDifference);
+  const CompareResult r =
+      compare_renders(synthetic(Synthetic().set_gain(1.02)), synthetic(Synthetic().set_seed(kSeedB)), kAlpha,
+                      kDefaultMaxDetectableDifference);
   EXPECT_EQ(r.verdict, CompareVerdict::kDifferent);
   EXPECT_EQ(exit_code(r.verdict), 1);
   EXPECT_TRUE(has(r.rejected, "mean")) << format_compare(r);
@@ -135,9 +169,9 @@ TEST(Compare, OneTileShiftFailsThroughTheTileTestOnly) {
   constexpr int k = 8;
   constexpr double kShift = 0.01, kTileT = 12;
   const double sigma = kShift * 8 / (kTileT * std::sqrt(2.0 / k));
-  const CompareResult r =
-      compare_renders(synthetic({.k = k, .sigma = sigma, .tile_gain = 1 + kShift}),
-                      synthetic({.k = k, .sigma = sigma, .seed = kSeedB}), kAlpha, kDefaultMaxDetectableDifference);
+  const CompareResult r = compare_renders(synthetic(Synthetic().set_k(k).set_sigma(sigma).set_tile_gain(1 + kShift)),
+                                          synthetic(Synthetic().set_k(k).set_sigma(sigma).set_seed(kSeedB)), kAlpha,
+                                          kDefaultMaxDetectableDifference);
   const ChannelComparison& c = r.channels[0];
   EXPECT_EQ(r.verdict, CompareVerdict::kDifferent) << format_compare(r);
   EXPECT_TRUE(has(r.rejected, "tiles")) << format_compare(r);
@@ -148,15 +182,16 @@ TEST(Compare, OneTileShiftFailsThroughTheTileTestOnly) {
   EXPECT_FALSE(has(r.rejected, "pixels"));
   EXPECT_FALSE(has(r.rejected, "variance"));
   // Negative control of the control: without the shift nothing rejects.
-  const CompareResult same = compare_renders(synthetic({.k = k, .sigma = sigma}),
-                                             synthetic({.k = k, .sigma = sigma, .seed = kSeedB}), kAlpha,
+  const CompareResult same = compare_renders(synthetic(Synthetic().set_k(k).set_sigma(sigma)),
+                                             synthetic(Synthetic().set_k(k).set_sigma(sigma).set_seed(kSeedB)), kAlpha,
                                              kDefaultMaxDetectableDifference);
   EXPECT_TRUE(same.rejected.empty()) << format_compare(same);
 }
 
 TEST(Compare, DoubledVarianceWithTheSameMeanFailsTheVarianceTestOnly) {
-  const CompareResult r = compare_renders(synthetic({.sigma = kPixelNoise * std::sqrt(2.0)}),
-                                          synthetic({.seed = kSeedB}), kAlpha, kDefaultMaxDetectableDifference);
+  const CompareResult r =
+      compare_renders(synthetic(Synthetic().set_sigma(kPixelNoise * std::sqrt(2.0))),
+                      synthetic(Synthetic().set_seed(kSeedB)), kAlpha, kDefaultMaxDetectableDifference);
   const ChannelComparison& c = r.channels[0];
   EXPECT_EQ(r.verdict, CompareVerdict::kDifferent) << format_compare(r);
   ASSERT_EQ(r.rejected.size(), 1u) << format_compare(r);
@@ -171,9 +206,9 @@ TEST(Compare, DoubledVarianceWithTheSameMeanFailsTheVarianceTestOnly) {
 
 TEST(Compare, WithoutTheVarianceTestADoubledVarianceIsSame) {
   // Two renderers (or samplers) with different noise and the same mean.
-  const CompareResult r = compare_renders(synthetic({.sigma = kPixelNoise * std::sqrt(2.0)}),
-                                          synthetic({.seed = kSeedB}), kAlpha, kDefaultMaxDetectableDifference,
-                                          kDefaultTileSize, false);
+  const CompareResult r = compare_renders(synthetic(Synthetic().set_sigma(kPixelNoise * std::sqrt(2.0))),
+                                          synthetic(Synthetic().set_seed(kSeedB)), kAlpha,
+                                          kDefaultMaxDetectableDifference, kDefaultTileSize, false);
   EXPECT_EQ(r.verdict, CompareVerdict::kSame) << format_compare(r);
   EXPECT_EQ(r.families, kCompareFamilies - 1);
   EXPECT_FALSE(r.channels[0].variance_tested);
@@ -182,14 +217,15 @@ TEST(Compare, WithoutTheVarianceTestADoubledVarianceIsSame) {
 
 TEST(Compare, ColourErrorKeepingTheGrayMeanFailsOnlyPerChannel) {
   // R +3 %, B −3 %: the gray mean is unchanged.
-  const Synthetic colour{.r_gain = 1.03, .b_gain = 0.97};
-  const CompareResult gray = compare_renders(synthetic(colour), synthetic({.seed = kSeedB}), kAlpha,
+  const Synthetic colour = Synthetic().set_r_gain(1.03).set_b_gain(0.97);
+  const CompareResult gray = compare_renders(synthetic(colour), synthetic(Synthetic().set_seed(kSeedB)), kAlpha,
                                              kDefaultMaxDetectableDifference);
   EXPECT_EQ(gray.verdict, CompareVerdict::kSame) << format_compare(gray);
   Synthetic colour_rgb = colour;
   colour_rgb.mode = ChannelMode::kRgb;
-  const CompareResult rgb = compare_renders(synthetic(colour_rgb), synthetic({.seed = kSeedB, .mode = ChannelMode::kRgb}),
-                                            kAlpha, kDefaultMaxDetectableDifference);
+  const CompareResult rgb =
+      compare_renders(synthetic(colour_rgb), synthetic(Synthetic().set_seed(kSeedB).set_mode(ChannelMode::kRgb)),
+                      kAlpha, kDefaultMaxDetectableDifference);
   ASSERT_EQ(rgb.channels.size(), 3u);
   EXPECT_EQ(rgb.verdict, CompareVerdict::kDifferent);
   EXPECT_FALSE(rgb.channels[0].image_mean_pass);
@@ -198,8 +234,9 @@ TEST(Compare, ColourErrorKeepingTheGrayMeanFailsOnlyPerChannel) {
 }
 
 TEST(Compare, TwoRendersPerSideAreInconclusive) {
-  const CompareResult r = compare_renders(synthetic({.k = 2, .sigma = 0.1}), synthetic({.k = 2, .sigma = 0.1, .seed = kSeedB}),
-                                          kAlpha, kDefaultMaxDetectableDifference);
+  const CompareResult r = compare_renders(synthetic(Synthetic().set_k(2).set_sigma(0.1)),
+                                          synthetic(Synthetic().set_k(2).set_sigma(0.1).set_seed(kSeedB)), kAlpha,
+                                          kDefaultMaxDetectableDifference);
   EXPECT_EQ(r.verdict, CompareVerdict::kInconclusive) << format_compare(r);
   EXPECT_EQ(exit_code(r.verdict), 3);
   ASSERT_TRUE(r.advice.needed);
@@ -217,7 +254,7 @@ TEST(Compare, TwoRendersPerSideAreInconclusive) {
 CompareSide exact_spread(int k, double sd, bool mirrored) {
   const int pairs = k / 2;
   const double a = sd * std::sqrt(double(k - 1) / (2.0 * pairs));
-  CompareSide side = synthetic({.k = k, .sigma = 0}, mirrored ? "b" : "a");
+  CompareSide side = synthetic(Synthetic().set_k(k).set_sigma(0), mirrored ? "b" : "a");
   for (int j = 0; j < k; ++j) {
     const double gain = j < pairs ? 1 + a : (j < 2 * pairs ? 1 - a : 1.0);
     for (size_t i = 0; i < side.images[j].value[0].size(); ++i) {
@@ -249,8 +286,8 @@ TEST(Compare, AdviceReachesTheThresholdWithTheRendersItNames) {
 }
 
 TEST(Compare, DifferentWinsOverInconclusive) {
-  const CompareResult r = compare_renders(synthetic({.k = 2, .sigma = 0.1, .gain = 1.5}),
-                                          synthetic({.k = 2, .sigma = 0.1, .seed = kSeedB}), kAlpha,
+  const CompareResult r = compare_renders(synthetic(Synthetic().set_k(2).set_sigma(0.1).set_gain(1.5)),
+                                          synthetic(Synthetic().set_k(2).set_sigma(0.1).set_seed(kSeedB)), kAlpha,
                                           kDefaultMaxDetectableDifference);
   EXPECT_FALSE(r.image_mean_has_power);
   EXPECT_EQ(r.verdict, CompareVerdict::kDifferent) << format_compare(r);
@@ -260,8 +297,8 @@ TEST(Compare, DifferentWinsOverInconclusive) {
 CompareSide furnace_side(double gain, uint64_t seed, const std::string& name) {
   constexpr double kSampleNoise = 0.3;  // per sample; at N = 1024 a pixel's noise is ~1 %
   constexpr uint32_t kSamples = 1024;
-  CompareSide side = synthetic({.k = 1, .sigma = kSampleNoise / std::sqrt(double(kSamples)), .gain = gain, .seed = seed},
-                               name);
+  CompareSide side = synthetic(
+      Synthetic().set_k(1).set_sigma(kSampleNoise / std::sqrt(double(kSamples))).set_gain(gain).set_seed(seed), name);
   ForeignImage& img = side.images[0];
   const size_t n = img.value[0].size();
   img.variance.assign(1, std::vector<double>(n));
@@ -290,7 +327,8 @@ class CompareFiles : public testing::Test {
  protected:
   void SetUp() override {
     const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / (std::string("furnace_compare_") + info->name() + "_" + std::to_string(::getpid()));
+    dir_ =
+        fs::temp_directory_path() / (std::string("furnace_compare_") + info->name() + "_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -346,7 +384,7 @@ class CompareFiles : public testing::Test {
 };
 
 TEST_F(CompareFiles, SameDistributionFilesAreSameAndWriteJsonAndZmap) {
-  CompareOptions o = options(write_side({}, "a"), write_side({.seed = kSeedB}, "b"));
+  CompareOptions o = options(write_side(Synthetic(), "a"), write_side(Synthetic().set_seed(kSeedB), "b"));
   o.json_path = (dir_ / "r.json").string();
   o.zmap_path = (dir_ / "t.exr").string();
   EXPECT_EQ(run_compare(o), 0);
@@ -362,18 +400,18 @@ TEST_F(CompareFiles, ResolutionMismatchIsBadInput) {
   exr::Image small;
   small.width = small.height = 16;
   for (const char* c : {"R", "G", "B"}) small.floats[c].assign(16 * 16, 1.0f);
-  std::vector<std::string> b = write_side({.seed = kSeedB}, "b");
+  std::vector<std::string> b = write_side(Synthetic().set_seed(kSeedB), "b");
   b[1] = write(small, "small.exr");
-  expect_bad_input(options(write_side({}, "a"), b), {"small.exr", "16x16", "32x32"});
+  expect_bad_input(options(write_side(Synthetic(), "a"), b), {"small.exr", "16x16", "32x32"});
 }
 
 TEST_F(CompareFiles, ChannelMismatchIsBadInput) {
   exr::Image y;
   y.width = y.height = kSize;
   y.floats["Y"].assign(kSize * kSize, 1.0f);
-  std::vector<std::string> b = write_side({.seed = kSeedB}, "b");
+  std::vector<std::string> b = write_side(Synthetic().set_seed(kSeedB), "b");
   b[0] = write(y, "luminance.exr");
-  expect_bad_input(options(write_side({}, "a"), b), {"luminance.exr", "Y", "R, G, B"});
+  expect_bad_input(options(write_side(Synthetic(), "a"), b), {"luminance.exr", "Y", "R, G, B"});
 }
 
 TEST_F(CompareFiles, NanAndNegativeRadianceAreBadInput) {
@@ -384,28 +422,29 @@ TEST_F(CompareFiles, NanAndNegativeRadianceAreBadInput) {
     file.width = file.height = kSize;
     for (const char* c : {"R", "G", "B"}) file.floats[c].assign(kSize * kSize, 1.0f);
     file.floats["G"][kSize * 3 + 5] = bad[k];
-    std::vector<std::string> a = write_side({}, "a");
+    std::vector<std::string> a = write_side(Synthetic(), "a");
     a[2] = write(file, "bad" + std::to_string(k) + ".exr");
-    expect_bad_input(options(a, write_side({.seed = kSeedB}, "b")), {a[2], "(5, 3)", text[k], "'G'"});
+    expect_bad_input(options(a, write_side(Synthetic().set_seed(kSeedB), "b")), {a[2], "(5, 3)", text[k], "'G'"});
   }
 }
 
 TEST_F(CompareFiles, OneImageWithoutVarianceIsBadInput) {
-  const std::vector<std::string> a = write_side({}, "a");
-  expect_bad_input(options({a[0]}, write_side({.seed = kSeedB}, "b")), {a[0], "side a", "two independent renders"});
+  const std::vector<std::string> a = write_side(Synthetic(), "a");
+  expect_bad_input(options({a[0]}, write_side(Synthetic().set_seed(kSeedB), "b")),
+                   {a[0], "side a", "two independent renders"});
 }
 
 TEST_F(CompareFiles, TheSameFileOnBothSidesIsBadInput) {
-  const std::vector<std::string> a = write_side({}, "a");
-  std::vector<std::string> b = write_side({.seed = kSeedB}, "b");
+  const std::vector<std::string> a = write_side(Synthetic(), "a");
+  std::vector<std::string> b = write_side(Synthetic().set_seed(kSeedB), "b");
   b[3] = a[1];
   expect_bad_input(options(a, b), {a[1], "both sides"});
 }
 
 TEST_F(CompareFiles, IdenticalSetsAreBadInput) {
   // The same renders copied to other names: no independence, refused.
-  const std::vector<std::string> a = write_side({}, "a");
-  const std::vector<std::string> b = write_side({}, "copy");
+  const std::vector<std::string> a = write_side(Synthetic(), "a");
+  const std::vector<std::string> b = write_side(Synthetic(), "copy");
   expect_bad_input(options(a, b), {a[0], b[0], "identical"});
 }
 
@@ -438,9 +477,9 @@ Calibration calibrate(size_t trials, double gain, uint64_t first_seed, double si
   const char* families[] = {"mean", "tiles", "pixels", "variance"};
   for (size_t t = 0; t < trials; ++t) {
     const uint64_t seed = first_seed + 2 * t;
-    const CompareResult r =
-        compare_renders(synthetic({.k = kCalibrationK, .sigma = sigma, .gain = gain, .seed = seed}),
-                        synthetic({.k = kCalibrationK, .sigma = sigma, .seed = seed + 1}), kCalibrationAlpha, 1.0);
+    const CompareResult r = compare_renders(
+        synthetic(Synthetic().set_k(kCalibrationK).set_sigma(sigma).set_gain(gain).set_seed(seed)),
+        synthetic(Synthetic().set_k(kCalibrationK).set_sigma(sigma).set_seed(seed + 1)), kCalibrationAlpha, 1.0);
     ++cal.trials;
     cal.rejections += r.rejected.empty() ? 0 : 1;
     for (int f = 0; f < 4; ++f) cal.by_family[f] += has(r.rejected, families[f]) ? 1 : 0;
@@ -452,7 +491,8 @@ Calibration calibrate(size_t trials, double gain, uint64_t first_seed, double si
 // P(X ≥ k) for X ~ Binomial(n, p).
 double upper_tail(size_t k, size_t n, double p) {
   if (k == 0) return 1;
-  return boost::math::cdf(boost::math::complement(boost::math::binomial_distribution<double>(double(n), p), double(k - 1)));
+  return boost::math::cdf(
+      boost::math::complement(boost::math::binomial_distribution<double>(double(n), p), double(k - 1)));
 }
 
 void expect_false_alarms_at_most_alpha(size_t trials) {
@@ -480,10 +520,10 @@ void expect_power_at_the_detectable_difference(size_t trials) {
   // P(X ≤ k) under power 0.9: the observed count of image-mean rejections.
   const double p = boost::math::cdf(boost::math::binomial_distribution<double>(double(cal.trials), kReportedPower),
                                     double(cal.by_family[0]));
-  std::printf("a %.2g%% difference at pixel noise %.3g%% (reported detectable %.4g%%): the image-mean test rejected "
-              "%zu of %zu (%.3f), any test %zu; P(X <= k | 0.9) = %.3g\n",
-              100 * kKnownDifference, 100 * sigma, 100 * reported, cal.by_family[0], cal.trials, rate, cal.rejections,
-              p);
+  std::printf(
+      "a %.2g%% difference at pixel noise %.3g%% (reported detectable %.4g%%): the image-mean test rejected "
+      "%zu of %zu (%.3f), any test %zu; P(X <= k | 0.9) = %.3g\n",
+      100 * kKnownDifference, 100 * sigma, 100 * reported, cal.by_family[0], cal.trials, rate, cal.rejections, p);
   EXPECT_GT(p, kCalibrationLevel);
   // Negative control: the same design without the difference rejects at about α, far below 0.9.
   EXPECT_LT(calibrate(trials, 1.0, kCalibrationSeed + 3000000, sigma).by_family[0], trials / 4);
