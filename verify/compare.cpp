@@ -152,11 +152,21 @@ bool welch_rejects(const stats::WelchStatistic& w, double alpha, double z_critic
 }
 
 // A zero-SE difference is exact agreement (round-off allowed) or ±inf.
+//
+// The d.o.f.: Welch–Satterthwaite when both sides have the same d.o.f. (K
+// renders each, or furnace EXRs of equal N), else the smaller side's (Hsu's
+// conservative choice). With unequal d.o.f. the Satterthwaite estimate is
+// anti-conservative in the far tails the Šidák levels reach: when the
+// few-d.o.f. side's spread comes out small by chance, the estimate follows
+// the many-d.o.f. side. Measured on same-distribution synthetic pairs at
+// α = 0.05: 2 renders against one furnace EXR falsely rejected 35 of 200 with
+// the Satterthwaite d.o.f.
 stats::WelchStatistic welch(const stats::MeanEstimate& a, const stats::MeanEstimate& b) {
   stats::WelchStatistic w = stats::welch_statistic(a, b);
   if (w.standard_error == 0 &&
       std::fabs(w.difference) <= stats::kZeroVarianceRelTolerance * std::max(std::fabs(a.mean), std::fabs(b.mean)))
     w.statistic = 0;
+  if (w.standard_error > 0 && a.dof != b.dof) w.dof = std::min(a.dof, b.dof);
   return w;
 }
 
@@ -182,13 +192,13 @@ void test_image_mean(const SideChannel& a, const SideChannel& b, int width, int 
   cc.mean_a = a.region(whole);
   cc.mean_b = b.region(whole);
   cc.alpha = alpha;
-  const stats::ComparisonTestResult t = stats::welch_test(cc.mean_a, cc.mean_b, alpha, kReportedPower);
-  cc.image_mean_pass = t.pass;
-  cc.dof = t.zero_variance ? kInf : t.dof;
-  cc.statistic = t.zero_variance ? (t.pass ? 0 : std::copysign(kInf, t.difference)) : t.statistic;
-  cc.threshold = t.zero_variance ? critical_t(kInf, alpha) : t.threshold;
+  const stats::WelchStatistic w = welch(cc.mean_a, cc.mean_b);
+  cc.dof = w.dof;
+  cc.statistic = w.statistic;
+  cc.threshold = critical_t(w.dof, alpha);
+  cc.image_mean_pass = std::fabs(w.statistic) <= cc.threshold;
   PowerFactor power(alpha);
-  cc.detectable_relative_difference = t.zero_variance ? 0 : relative(power(cc.dof) * t.standard_error, cc.mean_b.mean);
+  cc.detectable_relative_difference = relative(power(cc.dof) * w.standard_error, cc.mean_b.mean);
 }
 
 void test_tiles(const SideChannel& a, const SideChannel& b, int width, int height, int tile, double alpha,

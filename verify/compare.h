@@ -16,7 +16,9 @@
 //    Welch–Satterthwaite d.o.f. of that sum (pixels taken as independent).
 //
 // Tests (all two-sided, each channel tested separately):
-//  - image mean: Welch's t of A − B, Welch–Satterthwaite d.o.f.;
+//  - image mean: Welch's t of A − B, Welch–Satterthwaite d.o.f. when both
+//    sides have the same d.o.f., else the smaller side's (Hsu's conservative
+//    choice: see compare.cpp for the measured reason);
 //  - tiles (tile × tile pixels, default 8; edge tiles are smaller): Welch's
 //    t of each tile mean, which finds a localised shift that single pixels
 //    are too noisy to see (a 1 % shift in one 8×8 tile moves the tile mean by

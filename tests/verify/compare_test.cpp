@@ -129,6 +129,22 @@ bool has(const std::vector<std::string>& words, const std::string& w) {
   return std::find(words.begin(), words.end(), w) != words.end();
 }
 
+// One furnace EXR per side: per-pixel s² and N instead of K renders.
+constexpr double kSampleNoise = 0.3;  // per sample; at N = 1024 a pixel's noise is ~1 %
+constexpr uint32_t kSamples = 1024;
+// The relative pixel noise of one such render, kSampleNoise/√kSamples.
+const double kFurnaceRenderNoise = kSampleNoise / std::sqrt(double(kSamples));
+CompareSide furnace_side(double gain, uint64_t seed, const std::string& name) {
+  CompareSide side = synthetic(
+      Synthetic().set_k(1).set_sigma(kSampleNoise / std::sqrt(double(kSamples))).set_gain(gain).set_seed(seed), name);
+  ForeignImage& img = side.images[0];
+  const size_t n = img.value[0].size();
+  img.variance.assign(1, std::vector<double>(n));
+  img.count.assign(n, kSamples);
+  for (size_t i = 0; i < n; ++i) img.variance[0][i] = float(std::pow(kSampleNoise * base(i) * gain, 2));
+  return side;
+}
+
 #ifndef FURNACE_COMPARE_SLOW  // the unit tests; the slow binary holds only the calibration
 // ---------------------------------------------------------------------------
 // Verdicts and negative controls.
@@ -291,20 +307,6 @@ TEST(Compare, DifferentWinsOverInconclusive) {
                                           kDefaultMaxDetectableDifference);
   EXPECT_FALSE(r.image_mean_has_power);
   EXPECT_EQ(r.verdict, CompareVerdict::kDifferent) << format_compare(r);
-}
-
-// One furnace EXR per side: per-pixel s² and N instead of K renders.
-CompareSide furnace_side(double gain, uint64_t seed, const std::string& name) {
-  constexpr double kSampleNoise = 0.3;  // per sample; at N = 1024 a pixel's noise is ~1 %
-  constexpr uint32_t kSamples = 1024;
-  CompareSide side = synthetic(
-      Synthetic().set_k(1).set_sigma(kSampleNoise / std::sqrt(double(kSamples))).set_gain(gain).set_seed(seed), name);
-  ForeignImage& img = side.images[0];
-  const size_t n = img.value[0].size();
-  img.variance.assign(1, std::vector<double>(n));
-  img.count.assign(n, kSamples);
-  for (size_t i = 0; i < n; ++i) img.variance[0][i] = float(std::pow(kSampleNoise * base(i) * gain, 2));
-  return side;
 }
 
 TEST(Compare, OneFurnaceExrPerSide) {
@@ -529,7 +531,37 @@ void expect_power_at_the_detectable_difference(size_t trials) {
   EXPECT_LT(calibrate(trials, 1.0, kCalibrationSeed + 3000000, sigma).by_family[0], trials / 4);
 }
 
+// Mixed sides: K renders against one furnace EXR of the same noise per render.
+Calibration calibrate_mixed(size_t trials, int k, uint64_t first_seed) {
+  Calibration cal;
+  const char* families[] = {"mean", "tiles", "pixels", "variance"};
+  for (size_t t = 0; t < trials; ++t) {
+    const uint64_t seed = first_seed + 2 * t;
+    const CompareResult r = compare_renders(
+        synthetic(Synthetic().set_k(k).set_sigma(kFurnaceRenderNoise).set_seed(seed)),
+        furnace_side(1, seed + 1, "b"), kCalibrationAlpha, 1.0);
+    ++cal.trials;
+    cal.rejections += r.rejected.empty() ? 0 : 1;
+    for (int f = 0; f < 4; ++f) cal.by_family[f] += has(r.rejected, families[f]) ? 1 : 0;
+  }
+  return cal;
+}
+
+void expect_mixed_false_alarms_at_most_alpha(size_t trials, int k) {
+  const Calibration cal = calibrate_mixed(trials, k, kCalibrationSeed + 5000000);
+  const double p = upper_tail(cal.rejections, cal.trials, kCalibrationAlpha);
+  std::printf("K = %d renders against one furnace EXR: false alarms %zu of %zu (alpha %g; mean %zu, tiles %zu, pixels "
+              "%zu, variance %zu), P(X >= k) = %.3g\n",
+              k, cal.rejections, cal.trials, kCalibrationAlpha, cal.by_family[0], cal.by_family[1], cal.by_family[2],
+              cal.by_family[3], p);
+  EXPECT_GT(p, kCalibrationLevel) << cal.rejections << " of " << cal.trials;
+}
+
 #ifndef FURNACE_COMPARE_SLOW
+TEST(CompareCalibration, MixedSidesFalseAlarmRateIsAtMostAlpha) {
+  expect_mixed_false_alarms_at_most_alpha(kFastTrials, 2);
+  expect_mixed_false_alarms_at_most_alpha(kFastTrials, 4);
+}
 TEST(CompareCalibration, FalseAlarmRateIsAtMostAlpha) { expect_false_alarms_at_most_alpha(kFastTrials); }
 TEST(CompareCalibration, PowerAtTheReportedDetectableDifference) {
   expect_power_at_the_detectable_difference(kFastTrials);
@@ -539,6 +571,10 @@ TEST(CompareCalibration, PowerAtTheReportedDetectableDifference) {
 // FURNACE_COMPARE_SLOW): the same claims over kSlowTrials pairs.
 constexpr size_t kSlowTrials = 4000;
 TEST(CompareCalibrationSlow, FalseAlarmRateIsAtMostAlpha) { expect_false_alarms_at_most_alpha(kSlowTrials); }
+TEST(CompareCalibrationSlow, MixedSidesFalseAlarmRateIsAtMostAlpha) {
+  expect_mixed_false_alarms_at_most_alpha(kSlowTrials / 2, 2);
+  expect_mixed_false_alarms_at_most_alpha(kSlowTrials / 2, 4);
+}
 TEST(CompareCalibrationSlow, PowerAtTheReportedDetectableDifference) {
   expect_power_at_the_detectable_difference(kSlowTrials / 4);
 }
