@@ -13,6 +13,7 @@
 
 #include "cli/analytic_command.h"
 #include "cli/check_command.h"
+#include "cli/compare_command.h"
 #include "cli/cli_options.h"
 #include "cli/export_command.h"
 #include "cli/render_command.h"
@@ -34,6 +35,7 @@ int main(int argc, char** argv) {
   cli::ReportCommandOptions report;
   cli::AnalyticCommandOptions analytic;
   verify::CheckOptions check;
+  verify::CompareOptions compare;
   cli::ExportCommandOptions export_options;
   cli::SweepCommandOptions sweep;
   verify.command_line = report.command_line = cli::command_line_text(argc, argv);
@@ -44,6 +46,7 @@ int main(int argc, char** argv) {
       {cli::add_report_command(app, report), [&] { return cli::run_report(report); }},
       {cli::add_analytic_command(app, analytic), [&] { return cli::run_analytic(analytic); }},
       {cli::add_check_command(app, check), [&] { return verify::run_check(check); }},
+      {cli::add_compare_command(app, compare), [&] { return verify::run_compare(compare); }},
       {cli::add_export_command(app, export_options), [&] { return cli::run_export(export_options); }},
       {cli::add_sweep_command(app, sweep), [&] { return cli::run_sweep(sweep); }},
   };

@@ -296,25 +296,56 @@ MeanTestSummary mean_tests(const std::vector<SampleSummary>& summaries, const st
   return out;
 }
 
+WelchStatistic welch_statistic(const MeanEstimate& a, const MeanEstimate& b) {
+  WelchStatistic w;
+  const double va = a.variance_of_mean, vb = b.variance_of_mean;
+  w.difference = a.mean - b.mean;
+  w.standard_error = std::sqrt(va + vb);
+  if (w.standard_error == 0) {
+    w.statistic = w.difference == 0 ? 0.0 : std::copysign(kInf, w.difference);
+    w.dof = kInf;
+    return w;
+  }
+  // Welch–Satterthwaite; a zero-variance side contributes nothing.
+  const double denom = (va > 0 ? va * va / a.dof : 0) + (vb > 0 ? vb * vb / b.dof : 0);
+  w.dof = denom > 0 ? (va + vb) * (va + vb) / denom : kInf;
+  w.statistic = w.difference / w.standard_error;
+  return w;
+}
+
 ComparisonTestResult comparison_test(const SampleSummary& a, const SampleSummary& b, double alpha, double power) {
+  if (a.count < 2 || b.count < 2) {
+    require_level(alpha, "alpha");
+    require_level(power, "power");
+    ComparisonTestResult r;
+    r.alpha = alpha;
+    r.statistic = kInf;
+    r.message = "Each estimator needs at least 2 samples.";
+    return r;
+  }
+  return welch_test(MeanEstimate{a.mean, a.sample_variance / double(a.count), double(a.count - 1)},
+                         MeanEstimate{b.mean, b.sample_variance / double(b.count), double(b.count - 1)}, alpha,
+                         power);
+}
+
+ComparisonTestResult welch_test(const MeanEstimate& a, const MeanEstimate& b, double alpha, double power) {
   require_level(alpha, "alpha");
   require_level(power, "power");
   ComparisonTestResult r;
   r.alpha = alpha;
   r.statistic = kInf;
-  if (a.count < 2 || b.count < 2) {
+  if (!(a.dof >= 1) || !(b.dof >= 1)) {
     r.message = "Each estimator needs at least 2 samples.";
     return r;
   }
-  if (!std::isfinite(a.mean) || !std::isfinite(b.mean) || !std::isfinite(a.sample_variance) ||
-      !std::isfinite(b.sample_variance) || a.sample_variance < 0 || b.sample_variance < 0) {
+  if (!std::isfinite(a.mean) || !std::isfinite(b.mean) || !std::isfinite(a.variance_of_mean) ||
+      !std::isfinite(b.variance_of_mean) || a.variance_of_mean < 0 || b.variance_of_mean < 0) {
     r.message = "Non-finite means or variances, or a negative variance.";
     return r;
   }
-  const double va = a.sample_variance / double(a.count);
-  const double vb = b.sample_variance / double(b.count);
-  r.difference = a.mean - b.mean;
-  r.standard_error = std::sqrt(va + vb);
+  const WelchStatistic w = welch_statistic(a, b);
+  r.difference = w.difference;
+  r.standard_error = w.standard_error;
   if (r.standard_error == 0) {
     r.zero_variance = true;
     r.pass = exact_agreement(a.mean, b.mean);
@@ -323,13 +354,13 @@ ComparisonTestResult comparison_test(const SampleSummary& a, const SampleSummary
     r.message = zero_variance_message(a.mean, b.mean, r.pass);
     return r;
   }
-  // Welch–Satterthwaite; a zero-variance side contributes nothing.
-  const double denom = (va > 0 ? va * va / double(a.count - 1) : 0) + (vb > 0 ? vb * vb / double(b.count - 1) : 0);
-  r.dof = (va + vb) * (va + vb) / denom;
-  r.statistic = r.difference / r.standard_error;
-  r.p_value = t_two_sided_p(r.dof, r.statistic);
-  r.threshold = t_upper_quantile(r.dof, alpha / 2);
-  r.detectable_difference = (r.threshold + t_upper_quantile(r.dof, 1 - power)) * r.standard_error;
+  r.dof = w.dof;
+  r.statistic = w.statistic;
+  const bool normal = !std::isfinite(r.dof);
+  r.p_value = normal ? normal_two_sided_p(r.statistic) : t_two_sided_p(r.dof, r.statistic);
+  r.threshold = normal ? normal_upper_quantile(alpha / 2) : t_upper_quantile(r.dof, alpha / 2);
+  const double power_quantile = normal ? normal_upper_quantile(1 - power) : t_upper_quantile(r.dof, 1 - power);
+  r.detectable_difference = (r.threshold + power_quantile) * r.standard_error;
   r.detectable_relative_difference = relative_to(r.detectable_difference, b.mean);
   r.pass = std::fabs(r.statistic) <= r.threshold;
   if (!r.pass) {

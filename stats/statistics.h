@@ -201,6 +201,25 @@ MeanTestSummary mean_tests(const std::vector<SampleSummary>& summaries, const st
 // Welch's t-test: do two independent estimators (e.g. Russian roulette on and
 // off) have the same mean? Unequal variances, Welch–Satterthwaite d.o.f.
 
+// An estimate of a mean with the variance of that estimate and its degrees
+// of freedom: a sample mean (s²/N, N − 1), the mean of K independent renders
+// (spread²/K, K − 1), or a sum of such terms with Welch–Satterthwaite d.o.f.
+// dof = +inf: a known variance (the normal distribution).
+struct MeanEstimate {
+  double mean = 0;
+  double variance_of_mean = 0;
+  double dof = 0;
+};
+
+// Welch's statistic of a − b: difference, SE = √(v_a + v_b), t = difference/SE
+// (±inf or 0 when SE = 0, as the difference is nonzero or not) and the
+// Welch–Satterthwaite d.o.f. (v_a + v_b)²/(v_a²/ν_a + v_b²/ν_b), where a side
+// with v = 0 contributes nothing (+inf when both ν are +inf).
+struct WelchStatistic {
+  double difference = 0, standard_error = 0, statistic = 0, dof = 0;
+};
+WelchStatistic welch_statistic(const MeanEstimate& a, const MeanEstimate& b);
+
 struct ComparisonTestResult {
   double difference = 0;      // mean_a − mean_b
   double standard_error = 0;  // √(s_a²/N_a + s_b²/N_b)
@@ -217,6 +236,11 @@ struct ComparisonTestResult {
 };
 ComparisonTestResult comparison_test(const SampleSummary& a, const SampleSummary& b, double alpha,
                                      double power = kDefaultPower);
+// comparison_test of two mean estimates (comparison_test is welch_test of
+// {mean, s²/N, N − 1}); the quantiles are Student's t at the Welch d.o.f.,
+// normal for +inf. Both dof must be ≥ 1 (or +inf), else pass = false.
+ComparisonTestResult welch_test(const MeanEstimate& a, const MeanEstimate& b, double alpha,
+                                double power = kDefaultPower);
 
 // ---------------------------------------------------------------------------
 // Calibration: the empirical false-alarm (or rejection) rate of a test.

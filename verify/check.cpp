@@ -37,18 +37,6 @@ std::string without_final_period(std::string s) {
   return s;
 }
 
-// Images store 32-bit floats: a spread below kZeroVarianceRelTolerance (64
-// float steps) of the mean is round-off, not noise. Such a spread is floored
-// there, so that values that coincide to round-off by chance (two images of
-// 1 % noise agree to 7.6e-6 at some pixel of 1024 about one check in three)
-// do not make t explode. Exactly no spread (every value equal) stays 0: the
-// pixel must then match the reference exactly.
-double floored_variance(double sample_variance, double mean) {
-  if (sample_variance == 0) return 0;
-  const double floor = stats::kZeroVarianceRelTolerance * std::fabs(mean);
-  return std::max(sample_variance, floor * floor);
-}
-
 // The t of a failed zero-spread test is ±inf (the sign of the error).
 double signed_statistic(const stats::MeanTestResult& t) {
   if (!t.zero_variance) return t.statistic;
@@ -118,6 +106,12 @@ bool has_few_distinct_values(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   const size_t distinct = size_t(std::unique(values.begin(), values.end()) - values.begin());
   return distinct > 1 && distinct * kFewValuesDivisor <= k;
+}
+
+double floored_variance(double sample_variance, double mean) {
+  if (sample_variance == 0) return 0;
+  const double floor = stats::kZeroVarianceRelTolerance * std::fabs(mean);
+  return std::max(sample_variance, floor * floor);
 }
 
 double spread_upper_bound_factor(double dof, double confidence) {

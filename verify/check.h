@@ -168,6 +168,14 @@ struct CheckResult {
   CheckVerdict verdict = CheckVerdict::kFail;
 };
 
+// Images store 32-bit floats: a spread below kZeroVarianceRelTolerance (64
+// float steps) of the mean is round-off, not noise. Such a spread is floored
+// there, so that values that coincide to round-off by chance (two images of
+// 1 % noise agree to 7.6e-6 at some pixel of 1024 about one check in three)
+// do not make t explode. Exactly no spread (every value equal) stays 0: the
+// pixel must then match the reference exactly.
+double floored_variance(double sample_variance, double mean);
+
 // The noncentrality λ = bias/SE at which a two-sided level-α t-test with
 // `dof` d.o.f. (+inf: the z-test) rejects with probability `power`.
 double detectable_noncentrality(double dof, double alpha, double power);

@@ -124,6 +124,8 @@ json check_json(const Scene& scene, const std::string& scene_hash, const CheckRe
   return j;
 }
 
+}  // namespace
+
 void emit_json(const std::string& path, const json& j) {
   const std::string text = j.dump(2) + "\n";
   if (path == "-")
@@ -131,8 +133,6 @@ void emit_json(const std::string& path, const json& j) {
   else
     write_text_file_atomically(path, text, "JSON file");
 }
-
-}  // namespace
 
 std::vector<std::string> provenance_warnings(const Scene& scene, const std::string& scene_hash,
                                              const std::vector<ForeignImage>& images, const CheckReference& reference) {
@@ -208,19 +208,31 @@ std::string format_check(const Scene& scene, const CheckReference& reference, co
   return out;
 }
 
-void write_zmap(const std::string& path, const Scene& scene, const CheckResult& r) {
+void write_t_map(const std::string& path, int width, int height, const std::vector<std::string>& channels,
+                 const std::vector<std::vector<double>>& pixel_t, const std::vector<double>& critical_t,
+                 const std::string& attribute_prefix, std::map<std::string, std::string> attributes) {
   exr::Image image;
-  image.width = scene.camera.width_px;
-  image.height = scene.camera.height_px;
-  for (size_t c = 0; c < r.channels.size(); ++c) {
-    const std::string name = r.channels[c].channel == "gray" ? "Y" : r.channels[c].channel;
-    image.floats[name].assign(r.pixel_t[c].begin(), r.pixel_t[c].end());
-    image.attributes["furnace.check.critical_t." + name] = fmt::format("{:.6g}", r.channels[c].pixel_threshold);
+  image.width = width;
+  image.height = height;
+  for (size_t c = 0; c < channels.size(); ++c) {
+    const std::string name = channels[c] == "gray" ? "Y" : channels[c];
+    image.floats[name].assign(pixel_t[c].begin(), pixel_t[c].end());
+    image.attributes[attribute_prefix + "critical_t." + name] = fmt::format("{:.6g}", critical_t[c]);
   }
-  image.attributes["furnace.check.scene"] = scene.name;
-  image.attributes["furnace.check.method"] = r.method;
-  image.attributes["furnace.check.verdict"] = verdict_name(r.verdict);
+  for (auto& [key, value] : attributes) image.attributes[attribute_prefix + key] = std::move(value);
   exr::write(path, image, "t map");
+}
+
+void write_zmap(const std::string& path, const Scene& scene, const CheckResult& r) {
+  std::vector<std::string> channels;
+  std::vector<double> critical_t;
+  for (const ChannelCheck& c : r.channels) {
+    channels.push_back(c.channel);
+    critical_t.push_back(c.pixel_threshold);
+  }
+  write_t_map(path, scene.camera.width_px, scene.camera.height_px, channels, r.pixel_t, critical_t,
+              "furnace.check.",
+              {{"scene", scene.name}, {"method", r.method}, {"verdict", verdict_name(r.verdict)}});
 }
 
 int run_check(const CheckOptions& options) {

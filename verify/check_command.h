@@ -13,9 +13,12 @@
 // numbers (a t of ±inf) are null. --zmap FILE writes the per-pixel t.
 #pragma once
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json_fwd.hpp>
 
 #include "verify/check.h"
 
@@ -49,5 +52,16 @@ std::string format_check(const Scene& scene, const CheckReference& reference, co
 // The per-pixel t of every tested channel as an OpenEXR file (channel Y for
 // gray, R, G, B for rgb; ±inf where a zero-spread pixel misses), atomically.
 void write_zmap(const std::string& path, const Scene& scene, const CheckResult& r);
+
+// The per-pixel t of `channels` (channel "gray" is written as Y) as an
+// OpenEXR file, atomically, with the attributes <prefix>critical_t.<channel>
+// and <prefix><key> for each of `attributes` (write_zmap's and compare's).
+void write_t_map(const std::string& path, int width, int height, const std::vector<std::string>& channels,
+                 const std::vector<std::vector<double>>& pixel_t, const std::vector<double>& critical_t,
+                 const std::string& attribute_prefix, std::map<std::string, std::string> attributes);
+
+// Writes `j` (indented) to `path` atomically, or to stdout for "-" (the
+// --json of check and compare).
+void emit_json(const std::string& path, const nlohmann::json& j);
 
 }  // namespace furnace::verify

@@ -47,15 +47,19 @@ void require_counts(const std::string& path, const std::vector<double>& n, int w
 
 std::string channel_mode_name(ChannelMode mode) { return mode == ChannelMode::kRgb ? "rgb" : "gray"; }
 
-ForeignImage read_foreign_image(const std::string& path, const Scene& scene, ChannelMode mode) {
+namespace {
+
+// Reads and validates; the resolution is checked against `scene` when given,
+// before any channel.
+ForeignImage read_image(const std::string& path, const Scene* scene, ChannelMode mode) {
   const exr::Image file = exr::read(path, "image");
   ForeignImage img;
   img.path = path;
   img.width = file.width;
   img.height = file.height;
-  if (img.width != scene.camera.width_px || img.height != scene.camera.height_px)
+  if (scene && (img.width != scene->camera.width_px || img.height != scene->camera.height_px))
     throw Error(fmt::format("image '{}' is {}x{} pixels but scene '{}' field 'camera.resolution' is [{}, {}].", path,
-                            img.width, img.height, scene.source, scene.camera.width_px, scene.camera.height_px));
+                            img.width, img.height, scene->source, scene->camera.width_px, scene->camera.height_px));
   img.provenance = ImageProvenance::from_attributes(file.attributes);
 
   const bool rgb = file.has_channel("R") && file.has_channel("G") && file.has_channel("B");
@@ -70,6 +74,7 @@ ForeignImage read_foreign_image(const std::string& path, const Scene& scene, Cha
   for (const char* c : kRgb)
     if (rgb) planes.push_back(file.values(c));
   if (!rgb) planes.push_back(file.values("Y"));
+  img.source_channels = rgb ? "R, G, B" : "Y";
   for (size_t c = 0; c < planes.size(); ++c) require_radiance(path, rgb ? kRgb[c] : "Y", planes[c], img.width);
 
   const bool furnace_exr = rgb && file.has_channel(kVarianceRgb[0]) && file.has_channel(kVarianceRgb[1]) &&
@@ -108,6 +113,14 @@ ForeignImage read_foreign_image(const std::string& path, const Scene& scene, Cha
   }
   return img;
 }
+
+}  // namespace
+
+ForeignImage read_foreign_image(const std::string& path, const Scene& scene, ChannelMode mode) {
+  return read_image(path, &scene, mode);
+}
+
+ForeignImage read_foreign_image(const std::string& path, ChannelMode mode) { return read_image(path, nullptr, mode); }
 
 void reject_identical_images(const std::vector<ForeignImage>& images, const std::vector<double>& reference) {
   for (size_t a = 0; a < images.size(); ++a)

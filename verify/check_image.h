@@ -24,6 +24,7 @@ struct ForeignImage {
   std::string path;
   int width = 0, height = 0;
   std::vector<std::string> channels;         // tested channels: {"gray"} or {"R", "G", "B"}
+  std::string source_channels;               // the file's channels they come from: "R, G, B" or "Y"
   std::vector<std::vector<double>> value;    // [channel][pixel]
   // Furnace EXRs (variance.R, variance.G, variance.B and N present): the
   // per-sample s² of each tested channel, [channel][pixel], and the sample
@@ -43,6 +44,8 @@ struct ForeignImage {
 // or infinite radiance in R, G, B or Y; a NaN, infinite or negative
 // variance.* channel; a sample count N that is not a positive integer.
 ForeignImage read_foreign_image(const std::string& path, const Scene& scene, ChannelMode mode);
+// The same without a scene (furnace compare): any resolution is accepted.
+ForeignImage read_foreign_image(const std::string& path, ChannelMode mode);
 
 // Throws furnace::Error naming both files when two images hold the same
 // values in every tested channel: K copies of one render have no spread, so

@@ -1,0 +1,584 @@
+// `furnace compare` (verify/compare*.h): negative controls on synthetic
+// renders with known noise, bad input, and the false-alarm and power
+// calibration.
+//
+// A synthetic render is base·(1 + σ·noise) per pixel, noise standard normal
+// from a named seed; base is a smooth gradient in [0.5, 1.5] over a 32×32
+// image. Every number asserted follows from σ, K and the levels below.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <boost/math/distributions/binomial.hpp>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/exr.h"
+#include "stats/statistics.h"
+#include "verify/compare.h"
+#include "verify/compare_command.h"
+#include "verify/harness.h"
+
+namespace furnace::verify {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Named seeds: side A and side B draw from different streams.
+constexpr uint64_t kSeedA = 20261204;
+constexpr uint64_t kSeedB = 20261205;
+constexpr uint64_t kCalibrationSeed = 31000;
+constexpr int kSize = 32;
+constexpr double kAlpha = 0.01;
+// Relative per-pixel noise of one render (about a 256-spp direct-lighting
+// render of disk_occluder).
+constexpr double kPixelNoise = 0.01;
+
+double base(size_t i) {
+  const double x = double(i % kSize) / (kSize - 1), y = double(i / kSize) / (kSize - 1);
+  return 0.5 + 0.5 * x + 0.5 * y;
+}
+
+// K renders of base·gain·(1 + σ·noise); `tile_gain` multiplies the 8×8 tile
+// at (8, 8) (pixels x, y in [8, 16)).
+struct Synthetic {
+  int k = 8;
+  double sigma = kPixelNoise;
+  double gain = 1;
+  double tile_gain = 1;
+  double r_gain = 1, b_gain = 1;  // colour (rgb mode): R and B scaled, G not
+  uint64_t seed = kSeedA;
+  ChannelMode mode = ChannelMode::kGray;
+  // Setters, so that a test names what it changes: Synthetic().set_k(2).set_sigma(0.1).
+  Synthetic& set_k(int v) {
+    k = v;
+    return *this;
+  }
+  Synthetic& set_sigma(double v) {
+    sigma = v;
+    return *this;
+  }
+  Synthetic& set_gain(double v) {
+    gain = v;
+    return *this;
+  }
+  Synthetic& set_tile_gain(double v) {
+    tile_gain = v;
+    return *this;
+  }
+  Synthetic& set_r_gain(double v) {
+    r_gain = v;
+    return *this;
+  }
+  Synthetic& set_b_gain(double v) {
+    b_gain = v;
+    return *this;
+  }
+  Synthetic& set_seed(uint64_t v) {
+    seed = v;
+    return *this;
+  }
+  Synthetic& set_mode(ChannelMode v) {
+    mode = v;
+    return *this;
+  }
+};
+
+CompareSide synthetic(const Synthetic& s, const std::string& name = "s") {
+  CompareSide side;
+  std::mt19937_64 rng(s.seed);
+  std::normal_distribution<double> noise;
+  const size_t n = size_t(kSize) * kSize;
+  for (int j = 0; j < s.k; ++j) {
+    ForeignImage img;
+    img.path = name + std::to_string(j) + ".exr";
+    img.width = img.height = kSize;
+    img.source_channels = "R, G, B";
+    const bool rgb = s.mode == ChannelMode::kRgb;
+    img.channels = rgb ? std::vector<std::string>{"R", "G", "B"} : std::vector<std::string>{"gray"};
+    img.value.assign(img.channels.size(), std::vector<double>(n));
+    for (size_t i = 0; i < n; ++i) {
+      const int x = int(i % kSize), y = int(i / kSize);
+      const bool in_tile = x >= 8 && x < 16 && y >= 8 && y < 16;
+      // Stored as 32-bit floats, as an EXR holds them.
+      const double v = base(i) * s.gain * (in_tile ? s.tile_gain : 1.0) * (1 + s.sigma * noise(rng));
+      if (rgb) {
+        img.value[0][i] = float(v * s.r_gain);
+        img.value[1][i] = float(v);
+        img.value[2][i] = float(v * s.b_gain);
+      } else {
+        img.value[0][i] = float(v);
+      }
+    }
+    side.images.push_back(std::move(img));
+  }
+  return side;
+}
+
+bool has(const std::vector<std::string>& words, const std::string& w) {
+  return std::find(words.begin(), words.end(), w) != words.end();
+}
+
+// One furnace EXR per side: per-pixel s² and N instead of K renders.
+constexpr double kSampleNoise = 0.3;  // per sample; at N = 1024 a pixel's noise is ~1 %
+constexpr uint32_t kSamples = 1024;
+// The relative pixel noise of one such render, kSampleNoise/√kSamples.
+const double kFurnaceRenderNoise = kSampleNoise / std::sqrt(double(kSamples));
+CompareSide furnace_side(double gain, uint64_t seed, const std::string& name) {
+  CompareSide side = synthetic(
+      Synthetic().set_k(1).set_sigma(kSampleNoise / std::sqrt(double(kSamples))).set_gain(gain).set_seed(seed), name);
+  ForeignImage& img = side.images[0];
+  const size_t n = img.value[0].size();
+  img.variance.assign(1, std::vector<double>(n));
+  img.count.assign(n, kSamples);
+  for (size_t i = 0; i < n; ++i) img.variance[0][i] = float(std::pow(kSampleNoise * base(i) * gain, 2));
+  return side;
+}
+
+#ifndef FURNACE_COMPARE_SLOW  // the unit tests; the slow binary holds only the calibration
+// ---------------------------------------------------------------------------
+// Verdicts and negative controls.
+
+TEST(Compare, SameDistributionIsSameWithPower) {
+  const CompareResult r = compare_renders(synthetic(Synthetic()), synthetic(Synthetic().set_seed(kSeedB)), kAlpha,
+                                          kDefaultMaxDetectableDifference);
+  EXPECT_EQ(r.verdict, CompareVerdict::kSame) << format_compare(r);
+  EXPECT_EQ(exit_code(r.verdict), 0);
+  EXPECT_TRUE(r.rejected.empty());
+  EXPECT_TRUE(r.image_mean_has_power);
+  EXPECT_LE(r.detectable_relative_difference, kDefaultMaxDetectableDifference);
+  const ChannelComparison& c = r.channels[0];
+  EXPECT_EQ(c.tiles, 16);
+  EXPECT_EQ(c.pixel_failures, 0);
+  EXPECT_EQ(c.tile_failures, 0);
+  EXPECT_TRUE(c.variance_pass);
+  // Welch d.o.f. of two sides of 8: between 7 and 14.
+  EXPECT_GE(c.dof, 7);
+  EXPECT_LE(c.dof, 14);
+}
+
+TEST(Compare, GlobalShiftIsDifferentThroughTheMean) {
+  const CompareResult r =
+      compare_renders(synthetic(Synthetic().set_gain(1.02)), synthetic(Synthetic().set_seed(kSeedB)), kAlpha,
+                      kDefaultMaxDetectableDifference);
+  EXPECT_EQ(r.verdict, CompareVerdict::kDifferent);
+  EXPECT_EQ(exit_code(r.verdict), 1);
+  EXPECT_TRUE(has(r.rejected, "mean")) << format_compare(r);
+  EXPECT_FALSE(has(r.rejected, "variance")) << format_compare(r);
+}
+
+// A 1 % shift confined to one 8×8 tile, with pixel noise chosen so that the
+// tile's expected |t| is kTileT while each of its pixels' is kTileT/8: the
+// tile test (critical |t| ≈ 5 at α/4/16 and ~14 d.o.f.) must reject, every
+// pixel test (critical ≈ 9 at α/4/1024) must pass.
+TEST(Compare, OneTileShiftFailsThroughTheTileTestOnly) {
+  constexpr int k = 8;
+  constexpr double kShift = 0.01, kTileT = 12;
+  const double sigma = kShift * 8 / (kTileT * std::sqrt(2.0 / k));
+  const CompareResult r = compare_renders(synthetic(Synthetic().set_k(k).set_sigma(sigma).set_tile_gain(1 + kShift)),
+                                          synthetic(Synthetic().set_k(k).set_sigma(sigma).set_seed(kSeedB)), kAlpha,
+                                          kDefaultMaxDetectableDifference);
+  const ChannelComparison& c = r.channels[0];
+  EXPECT_EQ(r.verdict, CompareVerdict::kDifferent) << format_compare(r);
+  EXPECT_TRUE(has(r.rejected, "tiles")) << format_compare(r);
+  EXPECT_EQ(c.tile_failures, 1);
+  EXPECT_EQ(c.worst_tile_x, 8);
+  EXPECT_EQ(c.worst_tile_y, 8);
+  EXPECT_EQ(c.pixel_failures, 0) << format_compare(r);
+  EXPECT_FALSE(has(r.rejected, "pixels"));
+  EXPECT_FALSE(has(r.rejected, "variance"));
+  // Negative control of the control: without the shift nothing rejects.
+  const CompareResult same = compare_renders(synthetic(Synthetic().set_k(k).set_sigma(sigma)),
+                                             synthetic(Synthetic().set_k(k).set_sigma(sigma).set_seed(kSeedB)), kAlpha,
+                                             kDefaultMaxDetectableDifference);
+  EXPECT_TRUE(same.rejected.empty()) << format_compare(same);
+}
+
+TEST(Compare, DoubledVarianceWithTheSameMeanFailsTheVarianceTestOnly) {
+  const CompareResult r =
+      compare_renders(synthetic(Synthetic().set_sigma(kPixelNoise * std::sqrt(2.0))),
+                      synthetic(Synthetic().set_seed(kSeedB)), kAlpha, kDefaultMaxDetectableDifference);
+  const ChannelComparison& c = r.channels[0];
+  EXPECT_EQ(r.verdict, CompareVerdict::kDifferent) << format_compare(r);
+  ASSERT_EQ(r.rejected.size(), 1u) << format_compare(r);
+  EXPECT_EQ(r.rejected[0], "variance");
+  EXPECT_FALSE(c.variance_pass);
+  EXPECT_GT(c.variance_statistic, 0);
+  // The ratio estimate is near 2, and a 2x ratio is far above the detectable one.
+  EXPECT_GT(c.variance_ratio, 1.8);
+  EXPECT_LT(c.variance_ratio, 2.2);
+  EXPECT_LT(c.detectable_variance_ratio, 1.5);
+}
+
+TEST(Compare, WithoutTheVarianceTestADoubledVarianceIsSame) {
+  // Two renderers (or samplers) with different noise and the same mean.
+  const CompareResult r = compare_renders(synthetic(Synthetic().set_sigma(kPixelNoise * std::sqrt(2.0))),
+                                          synthetic(Synthetic().set_seed(kSeedB)), kAlpha,
+                                          kDefaultMaxDetectableDifference, kDefaultTileSize, false);
+  EXPECT_EQ(r.verdict, CompareVerdict::kSame) << format_compare(r);
+  EXPECT_EQ(r.families, kCompareFamilies - 1);
+  EXPECT_FALSE(r.channels[0].variance_tested);
+  EXPECT_NE(format_compare(r).find("not tested"), std::string::npos);
+}
+
+TEST(Compare, ColourErrorKeepingTheGrayMeanFailsOnlyPerChannel) {
+  // R +3 %, B −3 %: the gray mean is unchanged.
+  const Synthetic colour = Synthetic().set_r_gain(1.03).set_b_gain(0.97);
+  const CompareResult gray = compare_renders(synthetic(colour), synthetic(Synthetic().set_seed(kSeedB)), kAlpha,
+                                             kDefaultMaxDetectableDifference);
+  EXPECT_EQ(gray.verdict, CompareVerdict::kSame) << format_compare(gray);
+  Synthetic colour_rgb = colour;
+  colour_rgb.mode = ChannelMode::kRgb;
+  const CompareResult rgb =
+      compare_renders(synthetic(colour_rgb), synthetic(Synthetic().set_seed(kSeedB).set_mode(ChannelMode::kRgb)),
+                      kAlpha, kDefaultMaxDetectableDifference);
+  ASSERT_EQ(rgb.channels.size(), 3u);
+  EXPECT_EQ(rgb.verdict, CompareVerdict::kDifferent);
+  EXPECT_FALSE(rgb.channels[0].image_mean_pass);
+  EXPECT_TRUE(rgb.channels[1].image_mean_pass);
+  EXPECT_FALSE(rgb.channels[2].image_mean_pass);
+}
+
+TEST(Compare, TwoRendersPerSideAreInconclusive) {
+  const CompareResult r = compare_renders(synthetic(Synthetic().set_k(2).set_sigma(0.1)),
+                                          synthetic(Synthetic().set_k(2).set_sigma(0.1).set_seed(kSeedB)), kAlpha,
+                                          kDefaultMaxDetectableDifference);
+  EXPECT_EQ(r.verdict, CompareVerdict::kInconclusive) << format_compare(r);
+  EXPECT_EQ(exit_code(r.verdict), 3);
+  ASSERT_TRUE(r.advice.needed);
+  EXPECT_GT(r.advice.renders_per_side, 2);
+  EXPECT_GT(r.advice.spp_factor, 1);
+  EXPECT_NE(format_compare(r).find("renders per side"), std::string::npos);
+}
+
+// K renders per side whose image means have sample standard deviation
+// exactly `sd` (relative): half at gain 1 + a, half at 1 − a (one at 1 for
+// odd K), a chosen so that s = sd. Side B holds the same gains on the image
+// mirrored left to right (the same image mean, other pixels). The advice from
+// 2 renders must name the K at which the image-mean test reaches the
+// threshold, and K − 1 must fall short.
+CompareSide exact_spread(int k, double sd, bool mirrored) {
+  const int pairs = k / 2;
+  const double a = sd * std::sqrt(double(k - 1) / (2.0 * pairs));
+  CompareSide side = synthetic(Synthetic().set_k(k).set_sigma(0), mirrored ? "b" : "a");
+  for (int j = 0; j < k; ++j) {
+    const double gain = j < pairs ? 1 + a : (j < 2 * pairs ? 1 - a : 1.0);
+    for (size_t i = 0; i < side.images[j].value[0].size(); ++i) {
+      const size_t x = i % kSize, y = i / kSize;
+      side.images[j].value[0][i] = float(base(mirrored ? y * kSize + (kSize - 1 - x) : i) * gain);
+    }
+    // Renders with equal gains differ in two pixels by ±kNudge·j, which
+    // keeps their mean: identical renders would be refused.
+    constexpr double kNudge = 1.0 / 1024;  // exact in float
+    side.images[j].value[0][0] += kNudge * j;
+    side.images[j].value[0][1] -= kNudge * j;
+  }
+  return side;
+}
+
+TEST(Compare, AdviceReachesTheThresholdWithTheRendersItNames) {
+  const double sd = 0.002, target = 0.004;
+  auto detectable = [&](int k) {
+    return compare_renders(exact_spread(k, sd, false), exact_spread(k, sd, true), kAlpha, target)
+        .detectable_relative_difference;
+  };
+  const CompareResult two = compare_renders(exact_spread(2, sd, false), exact_spread(2, sd, true), kAlpha, target);
+  ASSERT_TRUE(two.advice.needed);
+  const int k = two.advice.renders_per_side;
+  ASSERT_GT(k, 2);
+  // Float storage moves s by ~1e-7 relative: a 1e-4 margin.
+  EXPECT_LE(detectable(k), target * (1 + 1e-4)) << k;
+  EXPECT_GT(detectable(k - 1), target) << k;
+}
+
+TEST(Compare, DifferentWinsOverInconclusive) {
+  const CompareResult r = compare_renders(synthetic(Synthetic().set_k(2).set_sigma(0.1).set_gain(1.5)),
+                                          synthetic(Synthetic().set_k(2).set_sigma(0.1).set_seed(kSeedB)), kAlpha,
+                                          kDefaultMaxDetectableDifference);
+  EXPECT_FALSE(r.image_mean_has_power);
+  EXPECT_EQ(r.verdict, CompareVerdict::kDifferent) << format_compare(r);
+}
+
+TEST(Compare, OneFurnaceExrPerSide) {
+  const CompareResult same = compare_renders(furnace_side(1, kSeedA, "a"), furnace_side(1, kSeedB, "b"), kAlpha,
+                                             kDefaultMaxDetectableDifference);
+  EXPECT_EQ(same.method_a, "furnace variance");
+  EXPECT_EQ(same.verdict, CompareVerdict::kSame) << format_compare(same);
+  EXPECT_GT(same.channels[0].dof, 1000);  // Satterthwaite over 1024 pixels of 1023 d.o.f.
+  const CompareResult shifted = compare_renders(furnace_side(1.01, kSeedA, "a"), furnace_side(1, kSeedB, "b"), kAlpha,
+                                                kDefaultMaxDetectableDifference);
+  EXPECT_EQ(shifted.verdict, CompareVerdict::kDifferent) << format_compare(shifted);
+  EXPECT_TRUE(has(shifted.rejected, "mean"));
+}
+
+// ---------------------------------------------------------------------------
+// Bad input, through the files and run_compare (the CLI turns furnace::Error
+// into exit 2).
+
+class CompareFiles : public testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+    dir_ =
+        fs::temp_directory_path() / (std::string("furnace_compare_") + info->name() + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Writes side `s` as RGB EXR files; returns their paths.
+  std::vector<std::string> write_side(const Synthetic& s, const std::string& name) const {
+    const CompareSide side = synthetic(s, name);
+    std::vector<std::string> paths;
+    for (const ForeignImage& img : side.images) {
+      exr::Image file;
+      file.width = img.width;
+      file.height = img.height;
+      for (const char* c : {"R", "G", "B"}) file.floats[c].assign(img.value[0].begin(), img.value[0].end());
+      paths.push_back(write(file, img.path));
+    }
+    return paths;
+  }
+  std::string write(const exr::Image& file, const std::string& name) const {
+    const std::string path = (dir_ / name).string();
+    exr::write(path, file);
+    return path;
+  }
+  CompareOptions options(std::vector<std::string> a, std::vector<std::string> b) const {
+    CompareOptions o;
+    o.a_paths = std::move(a);
+    o.b_paths = std::move(b);
+    return o;
+  }
+  // run_compare must throw one sentence holding every fragment, and write
+  // the BAD INPUT JSON.
+  void expect_bad_input(CompareOptions o, const std::vector<std::string>& fragments) const {
+    o.json_path = (dir_ / "bad.json").string();
+    try {
+      run_compare(o);
+      FAIL() << "accepted";
+    } catch (const Error& e) {
+      const std::string msg = e.what();
+      for (const std::string& s : fragments) EXPECT_NE(msg.find(s), std::string::npos) << s << " not in: " << msg;
+      EXPECT_EQ(msg.back(), '.') << msg;
+      EXPECT_EQ(msg.find(". "), std::string::npos) << "one sentence: " << msg;
+    }
+    const nlohmann::json j = nlohmann::json::parse(exr_text(o.json_path));
+    EXPECT_EQ(j["verdict"], "BAD INPUT");
+    EXPECT_EQ(j["exit_code"], 2);
+  }
+  static std::string exr_text(const std::string& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(CompareFiles, SameDistributionFilesAreSameAndWriteJsonAndZmap) {
+  CompareOptions o = options(write_side(Synthetic(), "a"), write_side(Synthetic().set_seed(kSeedB), "b"));
+  o.json_path = (dir_ / "r.json").string();
+  o.zmap_path = (dir_ / "t.exr").string();
+  EXPECT_EQ(run_compare(o), 0);
+  const nlohmann::json j = nlohmann::json::parse(exr_text(o.json_path));
+  EXPECT_EQ(j["verdict"], "SAME");
+  EXPECT_EQ(j["channels"][0]["tiles"]["tiles"], 16);
+  const exr::Image z = exr::read(o.zmap_path);
+  EXPECT_TRUE(z.has_channel("Y"));
+  EXPECT_EQ(z.width, kSize);
+}
+
+TEST_F(CompareFiles, ResolutionMismatchIsBadInput) {
+  exr::Image small;
+  small.width = small.height = 16;
+  for (const char* c : {"R", "G", "B"}) small.floats[c].assign(16 * 16, 1.0f);
+  std::vector<std::string> b = write_side(Synthetic().set_seed(kSeedB), "b");
+  b[1] = write(small, "small.exr");
+  expect_bad_input(options(write_side(Synthetic(), "a"), b), {"small.exr", "16x16", "32x32"});
+}
+
+TEST_F(CompareFiles, ChannelMismatchIsBadInput) {
+  exr::Image y;
+  y.width = y.height = kSize;
+  y.floats["Y"].assign(kSize * kSize, 1.0f);
+  std::vector<std::string> b = write_side(Synthetic().set_seed(kSeedB), "b");
+  b[0] = write(y, "luminance.exr");
+  expect_bad_input(options(write_side(Synthetic(), "a"), b), {"luminance.exr", "Y", "R, G, B"});
+}
+
+TEST_F(CompareFiles, NanAndNegativeRadianceAreBadInput) {
+  const float bad[] = {std::numeric_limits<float>::quiet_NaN(), -2.0f};
+  const char* text[] = {"nan", "-2"};
+  for (int k = 0; k < 2; ++k) {
+    exr::Image file;
+    file.width = file.height = kSize;
+    for (const char* c : {"R", "G", "B"}) file.floats[c].assign(kSize * kSize, 1.0f);
+    file.floats["G"][kSize * 3 + 5] = bad[k];
+    std::vector<std::string> a = write_side(Synthetic(), "a");
+    a[2] = write(file, "bad" + std::to_string(k) + ".exr");
+    expect_bad_input(options(a, write_side(Synthetic().set_seed(kSeedB), "b")), {a[2], "(5, 3)", text[k], "'G'"});
+  }
+}
+
+TEST_F(CompareFiles, OneImageWithoutVarianceIsBadInput) {
+  const std::vector<std::string> a = write_side(Synthetic(), "a");
+  expect_bad_input(options({a[0]}, write_side(Synthetic().set_seed(kSeedB), "b")),
+                   {a[0], "side a", "two independent renders"});
+}
+
+TEST_F(CompareFiles, TheSameFileOnBothSidesIsBadInput) {
+  const std::vector<std::string> a = write_side(Synthetic(), "a");
+  std::vector<std::string> b = write_side(Synthetic().set_seed(kSeedB), "b");
+  b[3] = a[1];
+  expect_bad_input(options(a, b), {a[1], "both sides"});
+}
+
+TEST_F(CompareFiles, IdenticalSetsAreBadInput) {
+  // The same renders copied to other names: no independence, refused.
+  const std::vector<std::string> a = write_side(Synthetic(), "a");
+  const std::vector<std::string> b = write_side(Synthetic(), "copy");
+  expect_bad_input(options(a, b), {a[0], b[0], "identical"});
+}
+
+#endif  // FURNACE_COMPARE_SLOW
+
+// ---------------------------------------------------------------------------
+// Calibration: the false-alarm rate over many same-distribution pairs must be
+// at most α (one-sided exact binomial test at kCalibrationLevel), and the
+// rejection rate against a difference equal to the reported detectable one
+// at least the stated power 0.9 (the reported one is conservative: the
+// spread enters at its upper bound). The default run uses kFastTrials; the
+// slow label repeats both with kSlowTrials.
+
+// The calibration's level: a measured rate this improbable under the claim fails.
+constexpr double kCalibrationLevel = 1e-3;
+// A larger α than the default makes false alarms frequent enough to count.
+constexpr double kCalibrationAlpha = 0.05;
+constexpr int kCalibrationK = 4;
+constexpr size_t kFastTrials = 200;
+
+struct Calibration {
+  size_t trials = 0, rejections = 0;
+  size_t by_family[4] = {0, 0, 0, 0};  // mean, tiles, pixels, variance
+  double mean_detectable = 0;          // mean over trials of the reported detectable difference
+};
+
+// `trials` pairs of K renders each, pixel noise `sigma`; side A scaled by `gain`.
+Calibration calibrate(size_t trials, double gain, uint64_t first_seed, double sigma = kPixelNoise) {
+  Calibration cal;
+  const char* families[] = {"mean", "tiles", "pixels", "variance"};
+  for (size_t t = 0; t < trials; ++t) {
+    const uint64_t seed = first_seed + 2 * t;
+    const CompareResult r = compare_renders(
+        synthetic(Synthetic().set_k(kCalibrationK).set_sigma(sigma).set_gain(gain).set_seed(seed)),
+        synthetic(Synthetic().set_k(kCalibrationK).set_sigma(sigma).set_seed(seed + 1)), kCalibrationAlpha, 1.0);
+    ++cal.trials;
+    cal.rejections += r.rejected.empty() ? 0 : 1;
+    for (int f = 0; f < 4; ++f) cal.by_family[f] += has(r.rejected, families[f]) ? 1 : 0;
+    cal.mean_detectable += r.detectable_relative_difference / double(trials);
+  }
+  return cal;
+}
+
+// P(X ≥ k) for X ~ Binomial(n, p).
+double upper_tail(size_t k, size_t n, double p) {
+  if (k == 0) return 1;
+  return boost::math::cdf(
+      boost::math::complement(boost::math::binomial_distribution<double>(double(n), p), double(k - 1)));
+}
+
+void expect_false_alarms_at_most_alpha(size_t trials) {
+  const Calibration cal = calibrate(trials, 1.0, kCalibrationSeed);
+  const double p = upper_tail(cal.rejections, cal.trials, kCalibrationAlpha);
+  testing::Test::RecordProperty("false_alarms", int(cal.rejections));
+  std::printf("false alarms: %zu of %zu (alpha %g; mean %zu, tiles %zu, pixels %zu, variance %zu), P(X >= k) = %.3g\n",
+              cal.rejections, cal.trials, kCalibrationAlpha, cal.by_family[0], cal.by_family[1], cal.by_family[2],
+              cal.by_family[3], p);
+  EXPECT_GT(p, kCalibrationLevel) << cal.rejections << " of " << cal.trials;
+}
+
+// A known 0.5 % difference of the mean (an emission change), with the pixel
+// noise scaled so that the reported detectable difference is 0.5 %: the
+// image-mean test must then reject with probability at least 0.9.
+constexpr double kKnownDifference = 0.005;
+
+void expect_power_at_the_detectable_difference(size_t trials) {
+  // The detectable difference scales with the noise: measure it at kPixelNoise.
+  const double detectable = calibrate(20, 1.0, kCalibrationSeed + 1000000).mean_detectable;
+  const double sigma = kPixelNoise * kKnownDifference / detectable;
+  const double reported = calibrate(20, 1.0, kCalibrationSeed + 1500000, sigma).mean_detectable;
+  const Calibration cal = calibrate(trials, 1 + kKnownDifference, kCalibrationSeed + 2000000, sigma);
+  const double rate = double(cal.by_family[0]) / double(cal.trials);
+  // P(X ≤ k) under power 0.9: the observed count of image-mean rejections.
+  const double p = boost::math::cdf(boost::math::binomial_distribution<double>(double(cal.trials), kReportedPower),
+                                    double(cal.by_family[0]));
+  std::printf(
+      "a %.2g%% difference at pixel noise %.3g%% (reported detectable %.4g%%): the image-mean test rejected "
+      "%zu of %zu (%.3f), any test %zu; P(X <= k | 0.9) = %.3g\n",
+      100 * kKnownDifference, 100 * sigma, 100 * reported, cal.by_family[0], cal.trials, rate, cal.rejections, p);
+  EXPECT_GT(p, kCalibrationLevel);
+  // Negative control: the same design without the difference rejects at about α, far below 0.9.
+  EXPECT_LT(calibrate(trials, 1.0, kCalibrationSeed + 3000000, sigma).by_family[0], trials / 4);
+}
+
+// Mixed sides: K renders against one furnace EXR of the same noise per render.
+Calibration calibrate_mixed(size_t trials, int k, uint64_t first_seed) {
+  Calibration cal;
+  const char* families[] = {"mean", "tiles", "pixels", "variance"};
+  for (size_t t = 0; t < trials; ++t) {
+    const uint64_t seed = first_seed + 2 * t;
+    const CompareResult r = compare_renders(
+        synthetic(Synthetic().set_k(k).set_sigma(kFurnaceRenderNoise).set_seed(seed)),
+        furnace_side(1, seed + 1, "b"), kCalibrationAlpha, 1.0);
+    ++cal.trials;
+    cal.rejections += r.rejected.empty() ? 0 : 1;
+    for (int f = 0; f < 4; ++f) cal.by_family[f] += has(r.rejected, families[f]) ? 1 : 0;
+  }
+  return cal;
+}
+
+void expect_mixed_false_alarms_at_most_alpha(size_t trials, int k) {
+  const Calibration cal = calibrate_mixed(trials, k, kCalibrationSeed + 5000000);
+  const double p = upper_tail(cal.rejections, cal.trials, kCalibrationAlpha);
+  std::printf("K = %d renders against one furnace EXR: false alarms %zu of %zu (alpha %g; mean %zu, tiles %zu, pixels "
+              "%zu, variance %zu), P(X >= k) = %.3g\n",
+              k, cal.rejections, cal.trials, kCalibrationAlpha, cal.by_family[0], cal.by_family[1], cal.by_family[2],
+              cal.by_family[3], p);
+  EXPECT_GT(p, kCalibrationLevel) << cal.rejections << " of " << cal.trials;
+}
+
+#ifndef FURNACE_COMPARE_SLOW
+TEST(CompareCalibration, MixedSidesFalseAlarmRateIsAtMostAlpha) {
+  expect_mixed_false_alarms_at_most_alpha(kFastTrials, 2);
+  expect_mixed_false_alarms_at_most_alpha(kFastTrials, 4);
+}
+TEST(CompareCalibration, FalseAlarmRateIsAtMostAlpha) { expect_false_alarms_at_most_alpha(kFastTrials); }
+TEST(CompareCalibration, PowerAtTheReportedDetectableDifference) {
+  expect_power_at_the_detectable_difference(kFastTrials);
+}
+#else
+// The slow label (verify_compare_slow_tests, this file built with
+// FURNACE_COMPARE_SLOW): the same claims over kSlowTrials pairs.
+constexpr size_t kSlowTrials = 4000;
+TEST(CompareCalibrationSlow, FalseAlarmRateIsAtMostAlpha) { expect_false_alarms_at_most_alpha(kSlowTrials); }
+TEST(CompareCalibrationSlow, MixedSidesFalseAlarmRateIsAtMostAlpha) {
+  expect_mixed_false_alarms_at_most_alpha(kSlowTrials / 2, 2);
+  expect_mixed_false_alarms_at_most_alpha(kSlowTrials / 2, 4);
+}
+TEST(CompareCalibrationSlow, PowerAtTheReportedDetectableDifference) {
+  expect_power_at_the_detectable_difference(kSlowTrials / 4);
+}
+#endif
+
+}  // namespace
+}  // namespace furnace::verify

@@ -1,0 +1,53 @@
+// `furnace compare`: the command around verify/compare.h. Its contract (the
+// same as `furnace check`'s):
+//   exit 0  SAME: no test rejects and the image-mean test has the stated power
+//   exit 1  DIFFERENT: some test rejects (the report names which: mean,
+//           tiles, pixels, variance); it wins over INCONCLUSIVE
+//   exit 2  bad input: one sentence on stderr naming the file and value
+//           (nothing but --json is written)
+//   exit 3  INCONCLUSIVE: no test rejects, but the image-mean test cannot
+//           detect a difference of --max-detectable-difference; the text says
+//           how many renders or samples would
+// The report goes to stdout (to stderr when the JSON goes to stdout);
+// warnings (sides whose provenance names different scenes or spp) go to
+// stderr and into the JSON. --json FILE ("-": stdout) holds every number the
+// text shows; non-finite numbers are null. --zmap FILE writes the per-pixel
+// Welch t of A − B.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "verify/compare.h"
+
+namespace furnace::verify {
+
+struct CompareOptions {
+  std::vector<std::string> a_paths, b_paths;
+  double alpha = 0.01;
+  double max_detectable_difference = kDefaultMaxDetectableDifference;
+  int tile_size = kDefaultTileSize;
+  bool test_variance = true;  // false: --no-variance-test
+  ChannelMode channels = ChannelMode::kGray;
+  std::string zmap_path;  // empty: none
+  std::string json_path;  // empty: none; "-": stdout
+  // empty: none; else DIR/compare.json (the JSON report with every pixel)
+  // and DIR/index.html with DIR/compare_<channel>.png, drawn by
+  // scripts/plot_compare.py with the report's plotting (verify/report_html.h
+  // finds Python with matplotlib; none is bad input, found before any work).
+  std::string html_dir;
+};
+
+// Reads both sides, runs the comparison and prints its report; returns the
+// exit code (0, 1, 3). Bad input throws furnace::Error (exit 2), after
+// writing {"verdict": "BAD INPUT", "error": ...} to --json when given.
+int run_compare(const CompareOptions& options);
+
+// Warnings from the images' provenance: the two sides name different scenes,
+// or different spp (the variance test then compares different noise levels).
+std::vector<std::string> compare_warnings(const CompareSide& a, const CompareSide& b);
+
+// The human-readable report (ends with "verdict: SAME|DIFFERENT|INCONCLUSIVE").
+std::string format_compare(const CompareResult& r);
+
+}  // namespace furnace::verify
