@@ -19,7 +19,8 @@ namespace furnace::cli {
 
 const char* const kExitContract =
     "Exit codes (every subcommand): 0 pass, 1 fail, 2 bad input (any argument error, scene files, images, output "
-    "paths; one line on stderr), 3 inconclusive (check: no test rejects but the test lacks the stated power).";
+    "paths; one line on stderr), 3 inconclusive (check, compare: no test rejects but the test lacks the stated "
+    "power).";
 
 namespace {
 

@@ -423,6 +423,10 @@ std::vector<BaseCommand> base_commands(const fs::path& scratch, const fs::path& 
         "--max-depth", "2", "--max-detectable-bias", "0.01", "--channels", "gray", "--zmap", (out / "t.exr").string(),
         "--json", (out / "r.json").string()},
        {}},
+      {{"compare", "--a", image_a, "--a", image_b, "--b", (scratch / "c.exr").string(), "--b",
+        (scratch / "d.exr").string(), "--alpha", "0.01", "--max-detectable-difference", "0.01", "--tile", "4",
+        "--channels", "gray", "--zmap", (out / "t.exr").string(), "--json", (out / "r.json").string()},
+       {}},
       {{"export", "--scene", scenes + "/disk_occluder.json", "--format", "pbrt-v4", "--spp", "4", "--seed", "3",
         "--max-depth", "2", "-o", (out / "x.pbrt").string()},
        {}},
@@ -438,10 +442,10 @@ TEST(Fuzz, CommandLineMutations) {
   const auto start = std::chrono::steady_clock::now();
   const ScratchDir scratch;
   const fs::path out = scratch.path() / "out";
-  // Two renders of disk_occluder for `check` to read.
-  for (const char* image : {"a.exr", "b.exr"}) {
+  // Four renders of disk_occluder for `check` and `compare` to read.
+  for (const char* image : {"a.exr", "b.exr", "c.exr", "d.exr"}) {
     const CliRun made = run_cli({"render", "--scene", std::string(FURNACE_SCENE_DIR) + "/disk_occluder.json",
-                                 "--spp", "4", "--seed", image[0] == 'a' ? "1" : "2", "--threads", "1", "--output",
+                                 "--spp", "4", "--seed", std::to_string(image[0] - 'a' + 1), "--threads", "1", "--output",
                                  (scratch.path() / image).string()},
                                 out, scratch.path());
     ASSERT_EQ(made.exit_code, 0) << made.err;
@@ -461,10 +465,10 @@ TEST(Fuzz, CommandLineMutations) {
     const CliRun run = run_cli(c.args, out, scratch.path());
     std::vector<std::string> named = {c.named};
     for (size_t i = 0; i + 1 < c.args.size(); ++i)
-      if (c.args[i] == "--scene" || c.args[i] == "--image")
+      if (c.args[i] == "--scene" || c.args[i] == "--image" || c.args[i] == "--a" || c.args[i] == "--b")
         // An empty file name is named as the messages quote it: ''.
         named.push_back(c.args[i + 1].empty() ? "''" : c.args[i + 1]);
-    expect_contract(run, named, c.description, !c.args.empty() && c.args[0] == "check");
+    expect_contract(run, named, c.description, !c.args.empty() && (c.args[0] == "check" || c.args[0] == "compare"));
     if (run.exit_code >= 0 && run.exit_code <= 3) ++by_code[std::min(run.exit_code, 3)];
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -161,7 +161,7 @@ TEST(Cli, HelpAndVersionExitZeroAndHelpStatesTheExitCodes) {
   EXPECT_EQ(help.exit_code, 0) << help.output;
   EXPECT_NE(help.output.find("0 pass, 1 fail, 2 bad input"), std::string::npos) << help.output;
   EXPECT_NE(help.output.find("3 inconclusive"), std::string::npos) << help.output;
-  for (const char* sub : {"render", "verify", "analytic", "check", "export", "report", "sweep"}) {
+  for (const char* sub : {"render", "verify", "analytic", "check", "compare", "export", "report", "sweep"}) {
     const Result r = run_cli(std::string(sub) + " --help");
     EXPECT_EQ(r.exit_code, 0) << sub;
     EXPECT_NE(r.output.find("2 bad input"), std::string::npos) << sub << ": " << r.output;
