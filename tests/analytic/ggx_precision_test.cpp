@@ -55,6 +55,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "analytic/error_ledger.h"
 #include "analytic/ggx.h"
 #include "analytic/moments.h"
 #include "core/strategy.h"
@@ -650,6 +651,12 @@ struct Worst {
   double error = 0, seconds = 0, slowest = 0;
   std::string where = "nowhere";
   int count = 0;
+  // The ErrorLedger's bound (error_ledger.h) on each value: the largest
+  // error/bound (≤ 1: covered), the largest bound relative to the value, and
+  // whether every value's quadratures reported to the ledger.
+  double worst_coverage = 0, widest_bound = 0;
+  std::string widest_where = "nowhere";
+  bool all_reported = true;
 };
 
 // Compares the library with `reference` on every quantity of the case.
@@ -660,7 +667,13 @@ void check_case(const Case& k, const Values& reference, Worst& worst) {
   for (size_t i = 0; i <= strategies.size(); ++i) {
     const Strategy* s = i == 0 ? nullptr : &strategies[i - 1];
     const auto start = std::chrono::steady_clock::now();
-    const double got = s == nullptr ? ggx_reflected_radiance(scene, p, n, wo, 0) : ggx_second_moment(*s, scene, p, n, wo, 0);
+    double got = 0, bound = 0, reported = 0;
+    {
+      const ErrorLedger ledger;
+      got = s == nullptr ? ggx_reflected_radiance(scene, p, n, wo, 0) : ggx_second_moment(*s, scene, p, n, wo, 0);
+      bound = ledger.bound(got);
+      reported = ledger.relative_quadrature_error();
+    }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     worst.seconds += seconds;
     worst.slowest = std::max(worst.slowest, seconds);
@@ -669,6 +682,14 @@ void check_case(const Case& k, const Values& reference, Worst& worst) {
     const std::string what = s == nullptr ? "radiance" : strategy_name(*s);
     EXPECT_LE(err, kPrecisionTarget) << k.name << ", " << what << ": " << got << " vs " << static_cast<double>(want);
     if (err > worst.error) worst.error = err, worst.where = k.name + ", " + what;
+    // The bound `furnace analytic` can state must cover the error, and must
+    // come from the quadratures' own reports (none: only the round-off allowance).
+    const double actual = static_cast<double>(abs(Big(got) - want));
+    EXPECT_LE(actual, bound) << k.name << ", " << what << ": error " << actual << " outside the ledger's bound " << bound;
+    EXPECT_GT(reported, 0) << k.name << ", " << what << ": no quadrature reported to the ErrorLedger";
+    worst.all_reported = worst.all_reported && reported > 0;
+    worst.worst_coverage = std::max(worst.worst_coverage, actual / bound);
+    if (bound / std::fabs(got) > worst.widest_bound) worst.widest_bound = bound / std::fabs(got), worst.widest_where = k.name + ", " + what;
     ++worst.count;
   }
 }
@@ -678,6 +699,8 @@ void print(const char* what, const Worst& w) {
               "(slowest %.3g s)\n",
               what, w.count, w.error, w.error / std::numeric_limits<double>::epsilon(), w.where.c_str(), w.seconds,
               w.slowest);
+  std::printf("[ ggx ] %-44s ErrorLedger bound: widest %.3g relative (at %s), error/bound at most %.3g%s\n", "",
+              w.widest_bound, w.widest_where.c_str(), w.worst_coverage, w.all_reported ? "" : ", SOME UNREPORTED");
 }
 
 // Cases and their reference method.
@@ -779,6 +802,10 @@ TEST(GgxPrecision, AlphaOnePlanarObliqueAndGrazing) {
       cases.push_back(planar_case(
           fmt::format("occluded disk, alpha 1, mu_o {:g}, {}", mu, microfacet_shadowing_name(form)), mu, 1.0, form,
           kSceneLight, kSceneOccluder));
+      // A small disk (R/H = 0.01): at mu_o 0.05 the mirror direction meets its
+      // plane ~950 radii from it.
+      cases.push_back(planar_case(fmt::format("small disk, alpha 1, mu_o {:g}, {}", mu, microfacet_shadowing_name(form)),
+                                  mu, 1.0, form, Disk{{0, 0, 2}, {0, 0, -1}, 0.02}));
     }
   sweep("disk and occluded disk, alpha 1, mu_o 0.5/0.2/0.05", cases, true);
 }
