@@ -58,7 +58,7 @@
 // ErrorLedger (error_ledger.h): its outer rule's error estimates plus the
 // worst relative estimate of an inner integral times the whole. Gauss–Kronrod
 // estimates are pessimistic: against 50-digit values the GGX errors are at
-// most 0.046 of the bound, which is at most 3.6e-9 relative
+// most 0.046 of the bound, which is at most 3.9e-9 relative
 // (tests/analytic/ggx_precision_test.cpp).
 //
 // Domain: receiver points outside every sphere light; sphere lights that
