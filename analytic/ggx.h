@@ -40,7 +40,8 @@
 // ρ/(2π(μo + μi)) (height-correlated), both independent of the azimuth, and
 // the directional albedo is 2(1 − ln 2)ρ/(1 + μo), resp. ρ(1 − μo ln((1 + μo)/μo)).
 //
-// Domain: as receiver.h (sphere lights and the constant sky, unoccluded),
+// Domain: as receiver.h (unoccluded sphere lights, the unblocked constant
+// sky, disk, rectangle and triangle lights past parallel disk occluders),
 // α in [scene_limits::kMinGgxAlpha, 1]. Units: radiance W·m⁻²·sr⁻¹, second
 // moments its square.
 #pragma once
@@ -58,8 +59,12 @@ namespace furnace::analytic {
 // quadrature tolerance. Measured against 50-digit values
 // (tests/analytic/ggx_precision_test.cpp): ≤ 1e-13 relative for the radiance
 // and every direct strategy's E[Y²], α from kMinGgxAlpha to 1, views from
-// normal to μo = 0.05. That needs the receiver's two optional members below
-// (receiver.h): from cos α alone, D at α = 1e-3 was off by ~1e-11.
+// normal to μo = 0.05, under the sky, sphere lights, planar lights and
+// disk_occluder's occluded disk. That needs the receiver's two optional
+// members below (receiver.h): from cos α alone, D at α = 1e-3 was off by
+// ~1e-11. The error each value reached is reported to the open ErrorLedger
+// (error_ledger.h; receiver_integrals.h), a bound the same tests check
+// covers the error against those values.
 inline constexpr double kGgxQuadratureTolerance = kReceiverQuadratureTolerance;
 
 // f(ωo, ωi) of the GGX BRDF above at n·ωo = cos_theta_o > 0, n·ωi =

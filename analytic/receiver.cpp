@@ -10,6 +10,7 @@
 #include <variant>
 #include <vector>
 
+#include "analytic/error_ledger.h"
 #include "analytic/occlusion.h"
 #include "analytic/point_light.h"
 #include "analytic/unsupported.h"
@@ -33,15 +34,30 @@ struct MemoKey {
 };
 constexpr size_t kMemoEntries = 16;
 
+// A memoised value with the relative error its quadratures reported to the
+// ErrorLedger, reported again on every hit (as if computed anew).
+struct Memoised {
+  double value, relative_error;
+};
+
 template <class Compute>
 double environment_memo(const MemoKey& key, Compute compute) {
-  thread_local std::vector<std::pair<MemoKey, double>> memo;
-  for (const auto& [k, value] : memo)
-    if (k == key) return value;
-  const double value = compute();
+  thread_local std::vector<std::pair<MemoKey, Memoised>> memo;
+  for (const auto& [k, m] : memo)
+    if (k == key) {
+      ErrorLedger::report(m.relative_error, 1.0);
+      return m.value;
+    }
+  Memoised m{};
+  {
+    ErrorLedger ledger;
+    m.value = compute();
+    m.relative_error = ledger.take_relative();
+  }
+  ErrorLedger::report(m.relative_error, 1.0);
   if (memo.size() == kMemoEntries) memo.erase(memo.begin());
-  memo.emplace_back(key, value);
-  return value;
+  memo.emplace_back(key, m);
+  return m.value;
 }
 
 // The memo key when the environment is the only light, else none.
@@ -100,8 +116,13 @@ double light_reflectance(const Receiver& receiver, const ReceiverLight& light) {
 }
 
 double reflected_radiance(const Receiver& receiver, const std::vector<ReceiverLight>& lights) {
+  // Each light's error relative to the sum (ErrorSum): a faint light's poorly
+  // resolved reflectance does not swamp the bound of the whole.
+  ErrorSum errors;
   double radiance = 0;
-  for (const ReceiverLight& light : lights) radiance += light.radiance * light_reflectance(receiver, light);
+  for (const ReceiverLight& light : lights)
+    radiance += errors.term([&] { return light.radiance * light_reflectance(receiver, light); });
+  errors.report(radiance);
   return radiance;
 }
 

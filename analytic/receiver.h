@@ -54,6 +54,12 @@
 // occluders), in polar coordinates about the mirror direction's hit point
 // on that plane, where a narrow lobe peaks (receiver_integrals.h,
 // plane_integral).
+// Error: every nested integral reports the error it reached to the open
+// ErrorLedger (error_ledger.h): its outer rule's error estimates plus the
+// worst relative estimate of an inner integral times the whole. Gauss–Kronrod
+// estimates are pessimistic: against 50-digit values the GGX errors are at
+// most 0.046 of the bound, which is at most 3.9e-9 relative
+// (tests/analytic/ggx_precision_test.cpp).
 //
 // Domain: receiver points outside every sphere light; sphere lights that
 // nothing may block, planar lights past disks parallel to them (nothing

@@ -14,6 +14,7 @@
 
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 
+#include "analytic/error_ledger.h"
 #include "analytic/receiver.h"
 #include "analytic/receiver_planar.h"
 #include "analytic/sin_cos.h"
@@ -93,10 +94,26 @@ struct Direction {
   double cos_emission;  // cos θ' there (the light-area density's emission cosine); 1 for the environment
 };
 
+// The error a nested quadrature reached, for the ErrorLedger: the outer
+// rule's error estimates plus the worst relative error estimate of an inner
+// integral (one ring's, or one ray's on a planar light, over all its pieces)
+// times the whole. Every node the outer quadrature evaluated counts, also
+// those of pieces it bisected further.
+struct NestedError {
+  double outer = 0;        // Σ of the accepted outer pieces' absolute error estimates
+  double worst_inner = 0;  // max over inner integrals of Σ|error|/|Σ value|
+  void inner(double value, double error) {
+    if (error > 0) worst_inner = std::fmax(worst_inner, value != 0 ? std::fabs(error / value) : INFINITY);
+  }
+  void report(double total) const { ErrorLedger::report(outer + worst_inner * std::fabs(total), total); }
+};
+
 // ∫ g(Direction) dω over the part of the cap (axis `axis`) above the
 // receiver's horizon, the receiver's BSDF evaluated once per direction.
+// The error reached goes to the open ErrorLedger (NestedError).
 template <class R, class Cap, class G>
 double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
+  NestedError reached;
   const Vec3& n = receiver.n;
   const Vec3 r = receiver.mirror();
   // Azimuths ψ from r's (ψ_mirror = 0 unless r is within kAxialMirror of the
@@ -113,7 +130,7 @@ double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
   const double width = receiver.R::lobe_width();
   auto outer = [&](double u) {
     const Ring ring = cap.at(u);
-    double sum = 0;
+    double sum = 0, ring_error = 0;
     for (auto [lo, hi] : positive_arcs(ring.cos_gamma * na, ring.sin_gamma * ns, ring.sin_gamma * nt)) {
       if (hi - lo >= 2 * kPi) lo = psi_mirror - kPi, hi = psi_mirror + kPi;  // a whole ring: about the peak
       // ψ over [a, b] by the half-angle variable of each of its pieces (HalfAngleArcs: no sin or cos at the nodes).
@@ -137,7 +154,7 @@ double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
                    ring.measure * dpsi_dtau;
           };
           value += adaptive_gauss_kronrod_relative(inner, -arc.tau_max, arc.tau_max, kReceiverQuadratureTolerance,
-                                                   kReceiverQuadratureDepth);
+                                                   kReceiverQuadratureDepth, 1, kUnlimitedBisections, &ring_error);
         }
         return value;
       };
@@ -154,6 +171,7 @@ double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
       for (size_t i = 0; i + 1 < at.size(); ++i)
         if (at[i] >= lo && at[i + 1] <= hi && at[i + 1] > at[i]) sum += arc_integral(at[i], at[i + 1]);
     }
+    reached.inner(sum, ring_error);
     return sum;
   };
   // Cuts: where the horizon starts to cut the rings (γ = |π/2 − β|, β the
@@ -169,8 +187,11 @@ double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
   double total = 0;
   for (size_t i = 0; i + 1 < cuts.size(); ++i) {
     const double a = cuts[i], b = std::min(cuts[i + 1], cap.u_max());
-    if (b > a) total += adaptive_gauss_kronrod_relative(outer, a, b, kReceiverQuadratureTolerance, kReceiverQuadratureDepth);
+    if (b > a)
+      total += adaptive_gauss_kronrod_relative(outer, a, b, kReceiverQuadratureTolerance, kReceiverQuadratureDepth, 1,
+                                               kUnlimitedBisections, &reached.outer);
   }
+  reached.report(total);
   return total;
 }
 
@@ -184,9 +205,11 @@ double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
 // behaviour of a chord at a tangent angle. The outer pieces share an
 // absolute tolerance, kReceiverQuadratureTolerance times a first estimate of
 // the whole (one rule per piece), so that a piece holding little of the
-// integral is not asked for digits below its round-off.
+// integral is not asked for digits below its round-off. The error reached
+// goes to the open ErrorLedger (NestedError).
 template <class R, class G>
 double plane_integral(const PlanarEmitter& light, const R& receiver, G g) {
+  NestedError reached;
   const Vec3& n = receiver.n;
   const Vec3 r = receiver.mirror();
   const PolarRegion region(light.boundary, polar_centre(light, r));
@@ -200,7 +223,7 @@ double plane_integral(const PlanarEmitter& light, const R& receiver, G g) {
     const double c = std::cos(phi), s = std::sin(phi);
     std::vector<std::pair<double, double>> spans;
     region.intervals(c, s, spans);
-    double sum = 0;
+    double sum = 0, ray_error = 0;
     for (const auto& [lo, hi] : spans) {
       auto inner = [&](double rho) {
         const double x = cx + rho * c, y = cy + rho * s;
@@ -217,8 +240,9 @@ double plane_integral(const PlanarEmitter& light, const R& receiver, G g) {
                rho * cos_emission / d2;
       };
       sum += adaptive_gauss_kronrod_relative(inner, lo, hi, kReceiverQuadratureTolerance, kReceiverQuadratureDepth, 1,
-                                             kPlaneInnerBisections);
+                                             kPlaneInnerBisections, &ray_error);
     }
+    reached.inner(sum, ray_error);
     return sum;
   };
   // Each piece's two halves in σ ∈ [0, √((b − a)/2)].
@@ -238,9 +262,10 @@ double plane_integral(const PlanarEmitter& light, const R& receiver, G g) {
   double total = 0;
   for (size_t i = 0; i + 1 < angles.size(); ++i) {
     const double a = angles[i], b = angles[i + 1], half = std::sqrt(0.5 * (b - a));
-    total += adaptive_gauss_kronrod(from_low(a), 0, half, tolerance, kReceiverQuadratureDepth);
-    total += adaptive_gauss_kronrod(from_high(b), 0, half, tolerance, kReceiverQuadratureDepth);
+    total += adaptive_gauss_kronrod(from_low(a), 0, half, tolerance, kReceiverQuadratureDepth, nullptr, &reached.outer);
+    total += adaptive_gauss_kronrod(from_high(b), 0, half, tolerance, kReceiverQuadratureDepth, nullptr, &reached.outer);
   }
+  reached.report(total);
   return total;
 }
 

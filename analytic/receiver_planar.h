@@ -74,8 +74,9 @@ std::optional<PlanarEmitter> planar_emitter(const Scene& scene, size_t light, co
 
 // The centre of the polar coordinates for a receiver with mirror direction r
 // (unit, world space): the point where r meets the light's plane, or, when r
-// does not point at the plane or meets it more than kFarCentre region sizes
-// away from the region, the centre of the region's bounding box.
+// does not point at the plane or meets it more than kFarCentre (2) region
+// sizes from the centre of the region's bounding box, that centre (a farther
+// centre costs ~ε·distance/size relative in round-off: receiver_planar.cpp).
 Point2 polar_centre(const PlanarEmitter& light, const Vec3& r);
 
 // The visible region of a planar emitter in polar coordinates about `centre`.
