@@ -81,9 +81,9 @@ std::string bsdf_text(const nlohmann::ordered_json& bsdf) {
 }
 
 // The glossy receiver's answer: its radiance toward the view and each direct
-// strategy's single-sample estimator of it. The receiver model's nested
-// quadratures do not report the error they reach: the bound stated is their
-// requested relative tolerance per level (two levels) plus round-off.
+// strategy's single-sample estimator of it. Each value's bound is what the
+// receiver model's nested quadratures report to an ErrorLedger (their own
+// error estimates) plus round-off, as for a Lambertian receiver.
 std::string answer_glossy_query(const Scene& original, const AnalyticQuery& q, size_t receiver, bool json) {
   Scene scene = original;
   Material& material = scene.objects[receiver].material;
@@ -91,14 +91,16 @@ std::string answer_glossy_query(const Scene& original, const AnalyticQuery& q, s
   const std::string& name = scene.objects[receiver].name;
   const View view = view_of(scene, q, name);
   const nlohmann::ordered_json bsdf = bsdf_json(material);
-  const double relative_bound =
-      2 * analytic::kReceiverQuadratureTolerance + analytic::kRoundoffUlps * std::numeric_limits<double>::epsilon();
-  const double radiance = analytic::glossy_reflected_radiance(scene, q.point, q.normal, view.direction, receiver);
+  double radiance = 0, radiance_bound = 0;
+  {
+    analytic::ErrorLedger ledger;
+    radiance = analytic::glossy_reflected_radiance(scene, q.point, q.normal, view.direction, receiver);
+    radiance_bound = ledger.bound(radiance);
+  }
   if (!std::isfinite(radiance))
     throw Error(fmt::format("scene file '{}': the exact radiance at the point is {}, not a finite number (an "
                             "emission or radiance too large for double precision).",
                             scene.source, radiance));
-  const double radiance_bound = std::fabs(radiance) * relative_bound;
 
   nlohmann::ordered_json j;
   j["scene"] = scene.name;
@@ -125,8 +127,12 @@ std::string answer_glossy_query(const Scene& original, const AnalyticQuery& q, s
     const std::string& est = strategy_name(strategy);
     std::string moment_text, variance_text;
     try {
-      const double m2 = analytic::glossy_second_moment(strategy, scene, q.point, q.normal, view.direction, receiver);
-      const double m2_bound = std::fabs(m2) * relative_bound;
+      double m2 = 0, m2_bound = 0;
+      {
+        analytic::ErrorLedger ledger;
+        m2 = analytic::glossy_second_moment(strategy, scene, q.point, q.normal, view.direction, receiver);
+        m2_bound = ledger.bound(m2);
+      }
       const double variance = m2 - radiance * radiance;
       const double variance_bound = m2_bound + 2 * std::fabs(radiance) * radiance_bound +
                                     radiance_bound * radiance_bound +

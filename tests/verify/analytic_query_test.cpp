@@ -5,6 +5,7 @@
 // every estimator is either unsupported (with its reason) or carries all four
 // of second moment, variance and their bounds.
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <filesystem>
 #include <set>
@@ -13,7 +14,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "analytic/error_ledger.h"
 #include "analytic/phong.h"
+#include "analytic/receiver.h"
 #include "analytic/reference.h"
 #include "core/error.h"
 #include "core/scene.h"
@@ -165,8 +168,19 @@ TEST(AnalyticQueryGgx, RadianceOfTheReceiversOwnMicrofacets) {
   const double rho = scene.objects[0].material.albedo;
   const double closed_form = scene.environment.radiance * 2 * (1 - std::log(2.0)) * rho / (1 + mu_o);
   EXPECT_NEAR(a["radiance"].get<double>(), closed_form, 1e-12 * closed_form);
-  for (Strategy s : direct_strategies())
+  // The bound is what the quadratures report (an ErrorLedger), not a fixed
+  // tolerance: it covers the actual error, stays small, and is not the
+  // requested 2·kReceiverQuadratureTolerance + 64 ε.
+  const double bound = a["radiance_error_bound"].get<double>();
+  EXPECT_LE(std::fabs(a["radiance"].get<double>() - closed_form), bound);
+  EXPECT_LT(bound, 1e-8 * closed_form);
+  const double fixed = closed_form * (2 * analytic::kReceiverQuadratureTolerance +
+                                      analytic::kRoundoffUlps * std::numeric_limits<double>::epsilon());
+  EXPECT_GT(std::fabs(bound - fixed), 1e-3 * fixed) << "the bound is the requested tolerance, not a measured one";
+  for (Strategy s : direct_strategies()) {
     EXPECT_GT(a["estimators"][strategy_name(s)]["variance"].get<double>(), 0.0) << strategy_name(s);
+    EXPECT_GT(a["estimators"][strategy_name(s)]["second_moment_error_bound"].get<double>(), 0.0) << strategy_name(s);
+  }
 }
 
 TEST(AnalyticQueryMirror, AMirrorReceiverIsRefused) {
