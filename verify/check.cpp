@@ -114,6 +114,21 @@ double floored_variance(double sample_variance, double mean) {
   return std::max(sample_variance, floor * floor);
 }
 
+int smallest_sufficient_count(const std::function<bool(int)>& enough, int max_count) {
+  if (enough(2)) return 2;
+  int low = 2, high = 4;  // enough(low) is false; doubling until enough(high)
+  while (!enough(high)) {
+    if (high >= max_count) return 0;
+    low = high;
+    high = std::min(2 * high, max_count);
+  }
+  while (high - low > 1) {
+    const int mid = low + (high - low) / 2;
+    (enough(mid) ? high : low) = mid;
+  }
+  return high;
+}
+
 double spread_upper_bound_factor(double dof, double confidence) {
   if (!std::isfinite(dof)) return 1.0;
   const boost::math::chi_squared_distribution<double> chi2(dof);
@@ -144,21 +159,10 @@ class DetectableCache {
 
 // Smallest K ≥ 2 whose across-images test would report a detectable bias of
 // at most `target` if the images' means had the spread `sd` (0: none up to
-// kMaxAdvisedImages). The detectable bias falls monotonically with K.
+// kMaxAdvisedImages).
 int images_needed(DetectableCache& cache, double sd, double reference_mean, double target) {
-  auto enough = [&](int k) { return cache.relative(k, sd, reference_mean, k - 1) <= target; };
-  if (enough(2)) return 2;
-  int low = 2, high = 4;
-  while (!enough(high)) {
-    if (high >= kMaxAdvisedImages) return 0;
-    low = high;
-    high = std::min(2 * high, kMaxAdvisedImages);
-  }
-  while (high - low > 1) {
-    const int mid = low + (high - low) / 2;
-    (enough(mid) ? high : low) = mid;
-  }
-  return high;
+  return smallest_sufficient_count([&](int k) { return cache.relative(k, sd, reference_mean, k - 1) <= target; },
+                                   kMaxAdvisedImages);
 }
 
 // The images' samples per pixel: the provenance's spp when every image

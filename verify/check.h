@@ -38,6 +38,7 @@
 // does not gate PASS: a pixel sees a thousandth of the samples of the image.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -175,6 +176,11 @@ struct CheckResult {
 // do not make t explode. Exactly no spread (every value equal) stays 0: the
 // pixel must then match the reference exactly.
 double floored_variance(double sample_variance, double mean);
+
+// The smallest count k ≥ 2 with enough(k), for a predicate that stays true
+// once true (more images or renders never lose power); 0 when none up to
+// max_count. Doubling, then bisection: O(log k) calls.
+int smallest_sufficient_count(const std::function<bool(int)>& enough, int max_count);
 
 // The noncentrality λ = bias/SE at which a two-sided level-α t-test with
 // `dof` d.o.f. (+inf: the z-test) rejects with probability `power`.

@@ -305,22 +305,12 @@ double render_spread(const stats::MeanEstimate& e, size_t renders) {
 int renders_needed(PowerFactor& power, double sd_a, double sd_b, double mean_b, double target) {
   const double var = sd_a * sd_a + sd_b * sd_b;
   const double fourth = std::pow(sd_a, 4) + std::pow(sd_b, 4);
-  auto enough = [&](int k) {
-    const double dof = fourth > 0 ? var * var / fourth * double(k - 1) : kInf;
-    return relative(power(dof) * std::sqrt(var / double(k)), mean_b) <= target;
-  };
-  if (enough(2)) return 2;
-  int low = 2, high = 4;
-  while (!enough(high)) {
-    if (high >= kMaxAdvisedRenders) return 0;
-    low = high;
-    high = std::min(2 * high, kMaxAdvisedRenders);
-  }
-  while (high - low > 1) {
-    const int mid = low + (high - low) / 2;
-    (enough(mid) ? high : low) = mid;
-  }
-  return high;
+  return smallest_sufficient_count(
+      [&](int k) {
+        const double dof = fourth > 0 ? var * var / fourth * double(k - 1) : kInf;
+        return relative(power(dof) * std::sqrt(var / double(k)), mean_b) <= target;
+      },
+      kMaxAdvisedRenders);
 }
 
 void require_side(const CompareSide& side, const char* name) {

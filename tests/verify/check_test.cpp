@@ -435,3 +435,27 @@ TEST_F(Check, ZmapHoldsThePerPixelT) {
 
 }  // namespace
 }  // namespace furnace::verify
+
+namespace furnace::verify {
+namespace {
+
+// The advice's search (check's images, compare's renders): the first count
+// from which a monotone predicate holds, with as few calls as doubling and
+// bisection take.
+TEST(SmallestSufficientCount, FindsTheFirstCountOfAMonotonePredicate) {
+  for (const int threshold : {1, 2, 3, 4, 5, 17, 64, 65, 999, 1000}) {
+    int calls = 0;
+    const int found = smallest_sufficient_count(
+        [&](int k) {
+          ++calls;
+          return k >= threshold;
+        },
+        1000);
+    EXPECT_EQ(found, std::max(threshold, 2)) << threshold;
+    EXPECT_LE(calls, 2 * 11) << threshold;
+  }
+  EXPECT_EQ(smallest_sufficient_count([](int k) { return k > 1000; }, 1000), 0);
+}
+
+}  // namespace
+}  // namespace furnace::verify
