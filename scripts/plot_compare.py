@@ -78,12 +78,7 @@ def main():
             " than B.</p>"]
     for image in report["images"]:
         body.append(f"<img src=\"{plot_channel(report, image, out_dir)}\" alt=\"{html.escape(image['channel'])}\">")
-    page = ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>furnace compare</title>\n"
-            f"<style>{pr.STYLE}</style></head><body>\n" + "\n".join(body) + "\n</body></html>\n")
-    tmp = os.path.join(out_dir, f".index.html.tmp-{os.getpid()}")
-    with open(tmp, "w", encoding="utf-8") as f:
-        f.write(page)
-    os.replace(tmp, os.path.join(out_dir, "index.html"))
+    pr.write_page(out_dir, "furnace compare", body)
 
 
 if __name__ == "__main__":

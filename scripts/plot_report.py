@@ -251,6 +251,18 @@ img{max-width:100%;border:1px solid #eee;margin:4px 0}code{background:#f4f4f4}
 .row{display:flex;gap:16px;align-items:flex-start;flex-wrap:wrap}"""
 
 
+def write_page(out_dir, title, body):
+    """Writes out_dir/index.html, a self-contained page of the HTML pieces in `body`,
+    atomically (a temporary file renamed over it)."""
+    page = ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+            f"<title>{html.escape(title)}</title>\n<style>{STYLE}</style></head><body>\n" + "\n".join(body) +
+            "\n</body></html>\n")
+    tmp = os.path.join(out_dir, f".index.html.tmp-{os.getpid()}")
+    with open(tmp, "w", encoding="utf-8") as f:
+        f.write(page)
+    os.replace(tmp, os.path.join(out_dir, "index.html"))
+
+
 def table_html(cases):
     rows = ["<table><tr><th class=l>strategy</th><th>slope</th><th>rel. RMSE at max spp</th>"
             "<th>seconds at max spp</th><th>efficiency</th><th>s to 1 %</th><th>equal-time spp</th>"
@@ -340,12 +352,7 @@ def main():
                     f"<img src=\"{plot_efficiency(scene, cases, out_dir)}\" alt=\"efficiency\"></div>" + note)
         body.append(f"<img src=\"{plot_images(scene, cases, scale, out_dir)}\" alt=\"{html.escape(scene)} images\">")
 
-    page = ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>furnace convergence report"
-            f"</title>\n<style>{STYLE}</style></head><body>\n" + "\n".join(body) + "\n</body></html>\n")
-    tmp = os.path.join(out_dir, f".index.html.tmp-{os.getpid()}")
-    with open(tmp, "w", encoding="utf-8") as f:
-        f.write(page)
-    os.replace(tmp, os.path.join(out_dir, "index.html"))
+    write_page(out_dir, "furnace convergence report", body)
 
 
 if __name__ == "__main__":
