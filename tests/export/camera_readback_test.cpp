@@ -43,10 +43,13 @@
 #include "core/vec3.h"
 #include "export/cycles.h"
 #include "export/pbrt_v4.h"
+#include "tests/export/exported_cameras.h"
 #include "tests/export/peer_support.h"
 
 namespace furnace::exporter {
 namespace {
+
+using namespace exported_camera;
 
 namespace fs = std::filesystem;
 
@@ -108,45 +111,6 @@ RayErrors compare_rays(const Camera& camera, const Vec3& direction, const Origin
 // ---------------------------------------------------------------------------
 // pbrt-v4.
 
-struct PbrtCamera {
-  Vec3 eye, look, up;
-  double window[4] = {};  // xmin xmax ymin ymax
-  int xres = 0, yres = 0;
-  bool mirrored = false;  // `Scale -1 1 1` right before LookAt
-};
-
-PbrtCamera read_pbrt_camera(const std::string& text) {
-  PbrtCamera c;
-  std::smatch m;
-  if (std::regex_search(text, m, std::regex(R"(\n(Scale -1 1 1\n)?LookAt ([-+0-9.][^\n]*)\n)"))) {
-    c.mirrored = m[1].matched;
-    std::istringstream line(m[2].str());
-    line >> c.eye.x >> c.eye.y >> c.eye.z >> c.look.x >> c.look.y >> c.look.z >> c.up.x >> c.up.y >> c.up.z;
-  }
-  if (std::regex_search(text, m, std::regex(R"("float screenwindow" \[([^\]]*)\])"))) {
-    std::istringstream numbers(m[1].str());
-    for (double& w : c.window) numbers >> w;
-  }
-  if (std::regex_search(text, m, std::regex(R"("integer xresolution" (\d+) "integer yresolution" (\d+))"))) {
-    c.xres = std::stoi(m[1].str());
-    c.yres = std::stoi(m[2].str());
-  }
-  return c;
-}
-
-// pbrt-v4's orthographic camera, jitter off: raster (px + ½, py + ½) maps
-// linearly onto the screen window (raster y down, screen y up); the screen
-// point is the camera-space point (sx, sy, 0); LookAt sends camera z to the
-// viewing direction and y to the true up; camera x is cross(up, direction),
-// or cross(direction, up) after `Scale -1 1 1`.
-Vec3 pbrt_pixel_origin(const PbrtCamera& c, int px, int py) {
-  const Vec3 direction = normalize(c.look - c.eye);
-  const Vec3 x = normalize(c.mirrored ? cross(direction, c.up) : cross(c.up, direction));
-  const Vec3 y = normalize(c.mirrored ? cross(x, direction) : cross(direction, x));
-  const double sx = c.window[0] + (px + 0.5) / c.xres * (c.window[1] - c.window[0]);
-  const double sy = c.window[3] - (py + 0.5) / c.yres * (c.window[3] - c.window[2]);
-  return c.eye + x * sx + y * sy;
-}
 
 TEST(CameraReadback, PbrtPixelsStartWhereFurnacesRaysStart) {
   for (const CameraCase& cc : kCameras) {
@@ -180,72 +144,12 @@ TEST(CameraReadback, PbrtPixelsStartWhereFurnacesRaysStart) {
 // ---------------------------------------------------------------------------
 // Cycles.
 
-struct BlenderCamera {
-  double matrix[3][4] = {};
-  double ortho_scale = 0, clip_start = 0;
-  std::string sensor_fit;
-  int xres = 0, yres = 0;
-  double aspect_x = 1, aspect_y = 1;
-};
-
-double number(const std::string& s) { return std::stod(s); }
-
-[[maybe_unused]] BlenderCamera read_cycles_camera(const std::string& text) {
-  BlenderCamera c;
-  std::smatch m;
-  const std::string num = R"(([-+0-9.eE]+))";
-  if (std::regex_search(text, m, std::regex("'resolution': \\(" + num + ", " + num + "\\)")))
-    c.xres = int(number(m[1])), c.yres = int(number(m[2]));
-  if (std::regex_search(text, m, std::regex("'pixel_aspect': \\(" + num + ", " + num + "\\)")))
-    c.aspect_x = number(m[1]), c.aspect_y = number(m[2]);
-  std::string rest = text.substr(text.find("'matrix': ("));
-  const std::regex row("\\(" + num + ", " + num + ", " + num + ", " + num + "\\)");
-  for (int i = 0; i < 3 && std::regex_search(rest, m, row); ++i) {
-    for (int k = 0; k < 4; ++k) c.matrix[i][k] = number(m[k + 1]);
-    rest = m.suffix();
-  }
-  if (std::regex_search(text, m, std::regex("'ortho_scale': " + num + ",\\s*'sensor_fit': '(\\w+)'")))
-    c.ortho_scale = number(m[1]), c.sensor_fit = m[2].str();
-  if (std::regex_search(text, m, std::regex("'clip_start': " + num))) c.clip_start = number(m[1]);
-  return c;
-}
-
-// Blender's orthographic view plane in camera space: x from xmin to xmax,
-// y from ymin to ymax (BKE_camera_params_compute_viewplane with zoom 1, no
-// shift): the sensor-fit side spans ortho_scale, ycor = aspect_y/aspect_x.
-struct ViewPlane {
-  double xmin, xmax, ymin, ymax;
-};
-[[maybe_unused]] ViewPlane view_plane(const BlenderCamera& c, const std::string& fit) {
-  const double ycor = c.aspect_y / c.aspect_x;
-  const bool horizontal =
-      fit == "HORIZONTAL" || (fit == "AUTO" && c.aspect_x * c.xres >= c.aspect_y * c.yres);
-  const double pixsize = c.ortho_scale / (horizontal ? c.xres : ycor * c.yres);
-  return {-0.5 * c.xres * pixsize, 0.5 * c.xres * pixsize, -0.5 * ycor * c.yres * pixsize,
-          0.5 * ycor * c.yres * pixsize};
-}
-
-// A camera-space point to world space by the 3×4 matrix.
-Vec3 to_world(const double m[3][4], const Vec3& p) {
-  return {m[0][0] * p.x + m[0][1] * p.y + m[0][2] * p.z + m[0][3], m[1][0] * p.x + m[1][1] * p.y + m[1][2] * p.z + m[1][3],
-          m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + m[2][3]};
-}
-Vec3 viewing_direction(const double m[3][4]) { return normalize(Vec3{-m[0][2], -m[1][2], -m[2][2]}); }
-
-// Where a Cycles orthographic ray of pixel (px, py) starts: the pixel centre
-// of the view plane (raster y down), on the near clip plane.
-Vec3 cycles_pixel_origin(const double m[3][4], const ViewPlane& v, int xres, int yres, double clip_start, int px,
-                         int py) {
-  const double x = v.xmin + (px + 0.5) / xres * (v.xmax - v.xmin);
-  const double y = v.ymax - (py + 0.5) / yres * (v.ymax - v.ymin);
-  return to_world(m, {x, y, -clip_start});
-}
 
 #if !FURNACE_READBACK_WITH_BLENDER
 TEST(CameraReadback, CyclesPixelsStartWhereFurnacesRaysStart) {
   for (const CameraCase& cc : kCameras) {
     const Scene scene = camera_scene(cc);
-    const BlenderCamera c = read_cycles_camera(export_cycles(scene, {}));
+    const CyclesCamera c = read_cycles_camera(export_cycles(scene, {}));
     ASSERT_EQ(c.xres, scene.camera.width_px) << cc.name;
     ASSERT_EQ(c.yres, scene.camera.height_px) << cc.name;
     const ViewPlane v = view_plane(c, c.sensor_fit);

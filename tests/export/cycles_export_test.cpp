@@ -5,6 +5,7 @@
 // (vertex counts, equal area, facing, closure) and their stated errors,
 // atomic output and the CLI's exit codes.
 #include "export/cycles.h"
+#include "tests/export/exported_cameras.h"
 
 #include <gtest/gtest.h>
 
@@ -308,43 +309,16 @@ TEST(CyclesExport, OneSidedEmittersAreMarkedAndTheBuilderMixesByBackfacing) {
   EXPECT_TRUE(contains(two, "'emission': 1.5, 'two_sided': True")) << header_of(two);
 }
 
-// The camera block of a script: matrix rows, ortho_scale, sensor fit.
-struct CameraBlock {
-  double m[3][4] = {};
-  double ortho_scale = 0;
-  std::string sensor_fit;
-  double aspect_x = 0, aspect_y = 0;
-};
-
-CameraBlock camera_block(const std::string& text) {
-  CameraBlock c;
-  const std::regex row(R"(\(([-0-9.e]+), ([-0-9.e]+), ([-0-9.e]+), ([-0-9.e]+)\),)");
-  auto begin = text.find("'matrix': (");
-  std::string rest = text.substr(begin);
-  std::smatch m;
-  for (int i = 0; i < 3 && std::regex_search(rest, m, row); ++i) {
-    for (int k = 0; k < 4; ++k) c.m[i][k] = std::stod(m[k + 1].str());
-    rest = m.suffix();
-  }
-  std::smatch s;
-  if (std::regex_search(text, s, std::regex(R"('ortho_scale': ([-0-9.e]+),\n\s*'sensor_fit': '(\w+)')"))) {
-    c.ortho_scale = std::stod(s[1].str());
-    c.sensor_fit = s[2].str();
-  }
-  if (std::regex_search(text, s, std::regex(R"('pixel_aspect': \(([-0-9.e]+), ([-0-9.e]+)\))"))) {
-    c.aspect_x = std::stod(s[1].str());
-    c.aspect_y = std::stod(s[2].str());
-  }
-  return c;
-}
+// The camera block of a script: tests/export/exported_cameras.h.
+using exported_camera::read_cycles_camera;
 
 TEST(CyclesExport, CameraAxesAreRightUpAndBackwardAndRaysStartOnTheImagePlane) {
   // enclosure_sphere: center (0.1, -0.05, 0.3), forward ∝ (0.2, 0.1, -1), up (0, 1, 0), 1.2 x 1.2.
-  const CameraBlock c = camera_block(export_cycles(builtin("enclosure_sphere"), {}));
+  const exported_camera::CyclesCamera c = read_cycles_camera(export_cycles(builtin("enclosure_sphere"), {}));
   const Vec3 forward = normalize(Vec3{0.2, 0.1, -1});
   const Vec3 right = normalize(cross(forward, Vec3{0, 1, 0}));
-  const Vec3 x{c.m[0][0], c.m[1][0], c.m[2][0]}, y{c.m[0][1], c.m[1][1], c.m[2][1]}, z{c.m[0][2], c.m[1][2], c.m[2][2]};
-  const Vec3 eye{c.m[0][3], c.m[1][3], c.m[2][3]};
+  const Vec3 x{c.matrix[0][0], c.matrix[1][0], c.matrix[2][0]}, y{c.matrix[0][1], c.matrix[1][1], c.matrix[2][1]}, z{c.matrix[0][2], c.matrix[1][2], c.matrix[2][2]};
+  const Vec3 eye{c.matrix[0][3], c.matrix[1][3], c.matrix[2][3]};
   EXPECT_NEAR(length(x - right), 0, 1e-15);
   EXPECT_NEAR(length(z + forward), 0, 1e-15);
   EXPECT_NEAR(dot(cross(x, y), z), 1, 1e-15) << "a rotation: Blender's camera looks along -z with +y up";
@@ -357,7 +331,7 @@ TEST(CyclesExport, CameraAxesAreRightUpAndBackwardAndRaysStartOnTheImagePlane) {
 
 TEST(CyclesExport, NonSquarePixelsBecomeBlendersPixelAspect) {
   // grazing_emitters: 0.04 x 2 scene units on 8 x 32 pixels: pixels 0.005 wide, 0.0625 tall.
-  const CameraBlock c = camera_block(export_cycles(builtin("grazing_emitters"), {}));
+  const exported_camera::CyclesCamera c = read_cycles_camera(export_cycles(builtin("grazing_emitters"), {}));
   EXPECT_EQ(c.aspect_x, 1);
   EXPECT_NEAR(c.aspect_y, 12.5, 1e-12);
   EXPECT_EQ(c.sensor_fit, "VERTICAL");

@@ -3,6 +3,7 @@
 // orientation, disk rotations), and that its output appears atomically.
 #include "tests/command.h"
 #include "export/pbrt_v4.h"
+#include "tests/export/exported_cameras.h"
 
 #include <gtest/gtest.h>
 
@@ -396,47 +397,11 @@ TEST(PbrtV4Export, CameraRightIsForwardCrossUp) {
   EXPECT_TRUE(contains(text, "Camera \"orthographic\" \"float screenwindow\" [-0.6 0.6 -0.6 0.6]")) << text;
 }
 
-// The camera pbrt-v4 reads from an exported file: LookAt, screen window and
-// film resolution.
-struct PbrtCamera {
-  Vec3 eye, look, up;
-  double window[4] = {};  // xmin xmax ymin ymax
-  int xres = 0, yres = 0;
-};
-
-PbrtCamera pbrt_camera(const std::string& text) {
-  PbrtCamera c;
-  std::smatch m;
-  if (std::regex_search(text, m, std::regex(R"(\nLookAt ([^\n]*)\n)"))) {
-    std::istringstream line(m[1].str());
-    line >> c.eye.x >> c.eye.y >> c.eye.z >> c.look.x >> c.look.y >> c.look.z >> c.up.x >> c.up.y >> c.up.z;
-  }
-  if (std::regex_search(text, m, std::regex(R"("float screenwindow" \[([^\]]*)\])"))) {
-    std::istringstream numbers(m[1].str());
-    for (double& w : c.window) numbers >> w;
-  }
-  if (std::regex_search(text, m, std::regex(R"("integer xresolution" (\d+) "integer yresolution" (\d+))"))) {
-    c.xres = std::stoi(m[1].str());
-    c.yres = std::stoi(m[2].str());
-  }
-  return c;
-}
-
-// Where pbrt-v4's orthographic camera starts the ray of pixel (px, py) with
-// jitter off: the raster point (px + 1/2, py + 1/2) maps linearly onto the
-// screen window (raster y down, screen y up); the screen point (sx, sy) is
-// the camera-space point (sx, sy, 0); LookAt sends camera z to the viewing
-// direction and camera y to the true up, and `Scale -1 1 1` before it makes
-// camera x = cross(direction, up) (pbrt-v4's LookAt and orthographic camera,
-// transform.cpp and cameras.cpp).
-Vec3 pbrt_pixel_origin(const PbrtCamera& c, int px, int py) {
-  const Vec3 direction = normalize(c.look - c.eye);
-  const Vec3 x = normalize(cross(direction, c.up));
-  const Vec3 y = cross(x, direction);
-  const double sx = c.window[0] + (px + 0.5) / c.xres * (c.window[1] - c.window[0]);
-  const double sy = c.window[3] - (py + 0.5) / c.yres * (c.window[3] - c.window[2]);
-  return c.eye + x * sx + y * sy;
-}
+// The camera pbrt-v4 reads from the file, each pixel's ray as its
+// orthographic camera makes it: tests/export/exported_cameras.h.
+using exported_camera::PbrtCamera;
+using exported_camera::pbrt_pixel_origin;
+using exported_camera::read_pbrt_camera;
 
 TEST(PbrtV4Export, NonSquareCameraPutsEveryPixelCentreWhereFurnacesRayStarts) {
   // A wide image (3 x 1 scene units) on 24 x 4 pixels, tilted: the pixels
@@ -452,7 +417,7 @@ TEST(PbrtV4Export, NonSquareCameraPutsEveryPixelCentreWhereFurnacesRayStarts) {
                                   "wide_camera.json");
   const std::string text = export_pbrt_v4(scene, {});
   EXPECT_TRUE(contains(text, "\"float screenwindow\" [-1.5 1.5 -0.5 0.5]")) << text;
-  const PbrtCamera c = pbrt_camera(text);
+  const PbrtCamera c = read_pbrt_camera(text);
   ASSERT_EQ(c.xres, 24);
   ASSERT_EQ(c.yres, 4);
   double worst = 0, worst_swapped = 0;
