@@ -144,7 +144,6 @@ TEST(CameraReadback, PbrtPixelsStartWhereFurnacesRaysStart) {
 // ---------------------------------------------------------------------------
 // Cycles.
 
-
 #if !FURNACE_READBACK_WITH_BLENDER
 TEST(CameraReadback, CyclesPixelsStartWhereFurnacesRaysStart) {
   for (const CameraCase& cc : kCameras) {
