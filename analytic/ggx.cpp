@@ -18,8 +18,6 @@
 #include <vector>
 
 #include "analytic/receiver_integrals.h"
-#include "analytic/unsupported.h"
-#include "core/error.h"
 
 namespace furnace::analytic {
 
@@ -67,13 +65,6 @@ double smith_g2_squared_over_g1o(MicrofacetShadowing shadowing, double lambda_o,
     }
   }
   return 0;
-}
-
-GgxReceiver receiver_at(const Scene& scene, const Vec3& n, const Vec3& wo, size_t receiver) {
-  const Material& m = scene.objects[receiver].material;
-  FURNACE_CHECK(m.type == BsdfType::kGgx);
-  if (!(dot(n, wo) > 0)) unsupported_configuration(scene, "a GGX receiver seen from below its horizon");
-  return GgxReceiver{n, wo, m.albedo, m.ggx_alpha, m.shadowing};
 }
 
 }  // namespace
@@ -124,24 +115,5 @@ std::vector<double> GgxReceiver::parameters() const {
 }
 
 template class ReceiverModel<GgxReceiver>;
-
-double ggx_sphere_reflectance(const GgxReceiver& receiver, const Vec3& center, double radius) {
-  return light_reflectance(receiver, ReceiverLight{false, center, radius, 1.0, 1.0});
-}
-
-double ggx_directional_albedo(const GgxReceiver& receiver) {
-  return light_reflectance(receiver, ReceiverLight{true, {}, 0, 1.0, 1.0});
-}
-
-double ggx_reflected_radiance(const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo, size_t receiver) {
-  return receiver_reflected_radiance(scene, p, receiver_at(scene, n, wo, receiver), receiver);
-}
-
-double ggx_second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo,
-                         size_t receiver, LightSelection selection) {
-  if (is_path_tracer(strategy))
-    unsupported_configuration(scene, "the path tracer '" + strategy_name(strategy) + "' over a GGX receiver");
-  return receiver_second_moment(strategy, scene, p, receiver_at(scene, n, wo, receiver), receiver, selection);
-}
 
 }  // namespace furnace::analytic

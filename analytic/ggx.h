@@ -97,6 +97,7 @@ class GgxReceiver final : public ReceiverModel<GgxReceiver> {
   bool vanishes_below_mirror_plane() const override { return false; }
   std::vector<double> parameters() const override;
   std::string name() const override { return "a GGX receiver"; }
+  Material material() const override { return Material{albedo, Ggx{alpha, shadowing}}; }
 
  private:
   double cos_theta_o_;  // μo = n·ωo
@@ -105,29 +106,5 @@ class GgxReceiver final : public ReceiverModel<GgxReceiver> {
 };
 // Instantiated once, in ggx.cpp.
 extern template class ReceiverModel<GgxReceiver>;
-
-// ∫_{cone ∩ n·ω>0} f·(n·ω) dω over the cone of a sphere of radius R whose
-// centre is at `center` relative to the receiving point (|center| > R): the
-// reflected radiance per unit emitted radiance, unoccluded.
-double ggx_sphere_reflectance(const GgxReceiver& receiver, const Vec3& center, double radius);
-
-// ∫_{n·ω>0} f·(n·ω) dω: the directional albedo, the reflected radiance per
-// unit radiance of an unblocked constant environment.
-double ggx_directional_albedo(const GgxReceiver& receiver);
-
-// Radiance reflected toward `wo` at point p of the GGX object `receiver`
-// (normal n facing wo), direct lighting only: sphere emitters (unoccluded)
-// and the constant environment (unblocked). Throws furnace::Error naming the
-// scene and the configuration for anything else (point lights, an
-// environment map, other emitter shapes, occluders, a viewer below the
-// horizon).
-double ggx_reflected_radiance(const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo, size_t receiver);
-
-// E[Y²] of the strategy's single-sample estimator of that radiance (Y the
-// reflected part only, emission excluded), for the lights
-// ggx_reflected_radiance solves, under the given light selection. Throws
-// furnace::Error for a path tracer or an unsupported configuration.
-double ggx_second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo,
-                         size_t receiver, LightSelection selection = LightSelection::kUniform);
 
 }  // namespace furnace::analytic

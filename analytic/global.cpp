@@ -35,7 +35,7 @@ namespace {
                           scene.source, reason));
 }
 
-bool is_mirror(const Object& o) { return o.material.type == BsdfType::kMirror; }
+bool is_mirror(const Object& o) { return o.material.as<Mirror>() != nullptr; }
 
 // The centroid of a planar shape (a point on it, away from its edges).
 Vec3 planar_center(const Shape& s) {
@@ -87,11 +87,11 @@ Classification classify(const Scene& scene, int max_segments) {
   // reflectors in one plane and no closed enclosure; their direct light is
   // the receiver model's (reference.h's hit_radiance).
   for (const Object& o : scene.objects) {
-    if (!is_glossy(o.material.type) || !(o.material.albedo > 0)) continue;
+    if (!o.material.info().glossy || !(o.material.albedo > 0)) continue;
     if (scene.closed || !reflectors_share_one_plane(scene))
       no_closed_form(scene, fmt::format("the glossy object '{}' ({}) has a closed form only as one of reflectors in "
                                         "one plane, which light leaves after one bounce",
-                                        o.name, bsdf_type_name(o.material.type)));
+                                        o.name, bsdf_type_name(o.material.type())));
     for (const Object& m : scene.objects)
       if (is_mirror(m) && m.material.albedo > 0)
         no_closed_form(scene, fmt::format("the mirror '{}' beside the glossy object '{}'", m.name, o.name));
@@ -106,7 +106,7 @@ Classification classify(const Scene& scene, int max_segments) {
       if (o.is_emitter()) no_closed_form(scene, fmt::format("mirror '{}' also emits", o.name));
       continue;
     }
-    if (o.material.type != BsdfType::kLambertian && o.material.albedo > 0)
+    if (!o.material.as<Lambertian>() && o.material.albedo > 0)
       no_closed_form(scene, fmt::format("object '{}' is neither Lambertian nor a mirror", o.name));
     ++non_mirror;
     if (!albedo) albedo = o.material.albedo, emission = o.emitted_radiance;
@@ -191,7 +191,7 @@ double leaving_radiance(const Scene& scene, const Classification& c, const Hit& 
     case Kind::kDirectOnly: {
       const double le = (front || o.two_sided) ? o.emitted_radiance : 0.0;
       if (segments_left < 2 || o.material.albedo == 0) return le;
-      if (is_glossy(o.material.type)) return hit_radiance(scene, hit, direction);  // le + the receiver model's direct light
+      if (o.material.info().glossy) return hit_radiance(scene, hit, direction);  // le + the receiver model's direct light
       const Vec3 n = front ? hit.normal : -hit.normal;
       return le + o.material.albedo * kInvPi * irradiance(scene, hit.point, n, hit.object_index);
     }

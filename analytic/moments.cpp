@@ -2,7 +2,7 @@
 // Lambertian receiver's estimators from the emitter kernels
 // (light_moments.h, light_solid_angle_moments.h), the point lights, the
 // environment and MIS (mis_moments.h); a glossy hit by its receiver model
-// (phong.h, ggx.h, receiver.h).
+// (glossy.h, receiver.h).
 #include "analytic/moments.h"
 
 #include <array>
@@ -15,11 +15,10 @@
 #include "analytic/environment.h"
 #include "analytic/environment_map.h"
 #include "analytic/error_ledger.h"
-#include "analytic/ggx.h"
+#include "analytic/glossy.h"
 #include "analytic/light_moments.h"
 #include "analytic/light_solid_angle_moments.h"
 #include "analytic/mis_moments.h"
-#include "analytic/phong.h"
 #include "analytic/reference.h"
 #include "analytic/unsupported.h"
 #include "core/error.h"
@@ -183,44 +182,13 @@ double second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const
 
 namespace {
 
-[[noreturn]] void no_glossy_reference(const Scene& scene, size_t receiver) {
-  unsupported_configuration(scene, "the receiver '" + scene.objects[receiver].name + "' (" +
-                                       bsdf_type_name(scene.objects[receiver].material.type) +
-                                       "), which is not glossy, as a glossy receiver");
-}
-
-}  // namespace
-
-double glossy_reflected_radiance(const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo, size_t receiver) {
-  switch (scene.objects[receiver].material.type) {
-    case BsdfType::kPhong: return phong_reflected_radiance(scene, p, n, wo, receiver);
-    case BsdfType::kGgx: return ggx_reflected_radiance(scene, p, n, wo, receiver);
-    case BsdfType::kLambertian:
-    case BsdfType::kMirror:
-      break;
-  }
-  no_glossy_reference(scene, receiver);
-}
-double glossy_second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo,
-                            size_t receiver, LightSelection selection) {
-  switch (scene.objects[receiver].material.type) {
-    case BsdfType::kPhong: return phong_second_moment(strategy, scene, p, n, wo, receiver, selection);
-    case BsdfType::kGgx: return ggx_second_moment(strategy, scene, p, n, wo, receiver, selection);
-    case BsdfType::kLambertian:
-    case BsdfType::kMirror:
-      break;
-  }
-  no_glossy_reference(scene, receiver);
-}
-
-namespace {
-
 // pixel_center_second_moment's steps for N second moments at once:
-// phong(p, n, wo, receiver) gives the N glossy estimators' E[Y²] at a Phong
-// or GGX hit, lambertian(p, n, receiver) the N irradiance estimators' at a
-// Lambertian one.
-template <size_t N, class Phong, class Lambertian>
-std::array<double, N> pixel_center_moments(const Scene& scene, int px, int py, Phong phong, Lambertian lambertian) {
+// glossy(p, n, wo, receiver) gives the N glossy estimators' E[Y²] at a
+// glossy hit (glossy.h), lambertian(p, n, receiver) the N irradiance
+// estimators' at a Lambertian one.
+template <size_t N, class Glossy, class LambertianMoments>
+std::array<double, N> pixel_center_moments(const Scene& scene, int px, int py, Glossy glossy,
+                                           LambertianMoments lambertian) {
   std::array<double, N> out;
   const Camera::Ray ray = scene.camera.pixel_center_ray(px, py);
   const std::optional<Hit> hit = intersect(scene, ray.origin, ray.direction);
@@ -236,25 +204,21 @@ std::array<double, N> pixel_center_moments(const Scene& scene, int px, int py, P
     return out;
   }
   const Vec3 n = cos_view < 0 ? hit->normal : -hit->normal;
-  switch (object.material.type) {
-    case BsdfType::kPhong:
-    case BsdfType::kGgx: {
-      // Y_px = Le + Y with Y the glossy estimator (phong.h, ggx.h), emission constant.
-      const double e = glossy_reflected_radiance(scene, hit->point, n, -ray.direction, hit->object_index);
-      const std::array<double, N> m = phong(hit->point, n, -ray.direction, hit->object_index);
-      for (size_t i = 0; i < N; ++i) out[i] = le * le + 2 * le * e + m[i];
-      return out;
-    }
-    case BsdfType::kLambertian: {
-      const double k = object.material.albedo * kInvPi;
-      const double e = irradiance(scene, hit->point, n, hit->object_index);
-      const std::array<double, N> m = lambertian(hit->point, n, hit->object_index);
-      for (size_t i = 0; i < N; ++i) out[i] = le * le + 2 * le * k * e + k * k * m[i];
-      return out;
-    }
-    case BsdfType::kMirror:
-      break;  // a delta lobe: no receiver model
+  if (object.material.info().glossy) {
+    // Y_px = Le + Y with Y the glossy estimator (glossy.h), emission constant.
+    const double e = glossy_reflected_radiance(scene, hit->point, n, -ray.direction, hit->object_index);
+    const std::array<double, N> m = glossy(hit->point, n, -ray.direction, hit->object_index);
+    for (size_t i = 0; i < N; ++i) out[i] = le * le + 2 * le * e + m[i];
+    return out;
   }
+  if (object.material.as<Lambertian>()) {
+    const double k = object.material.albedo * kInvPi;
+    const double e = irradiance(scene, hit->point, n, hit->object_index);
+    const std::array<double, N> m = lambertian(hit->point, n, hit->object_index);
+    for (size_t i = 0; i < N; ++i) out[i] = le * le + 2 * le * k * e + k * k * m[i];
+    return out;
+  }
+  // A mirror, a delta lobe, has no receiver model.
   unsupported_configuration(scene, "a camera ray hitting the non-Lambertian, non-black object '" + object.name + "'");
 }
 

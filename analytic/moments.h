@@ -103,18 +103,11 @@ double second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const
 // Second moment of the pixel estimator the renderer averages at the centre of
 // pixel (px, py): Y_px = Le + (ρ/π)·Y at a Lambertian hit, so
 //   E[Y_px²] = Le² + 2·Le·(ρ/π)·E + (ρ/π)²·E[Y²];
-// at a Phong hit Y_px = Le + Y with Y the glossy estimator of phong.h
-// (phong_second_moment, which takes the strategy itself: bsdf sampling is the
-// lobe there, not cosine sampling);
+// at a glossy (Phong, GGX) hit Y_px = Le + Y with Y the glossy estimator,
+// whose second moment takes the strategy itself (bsdf sampling is the lobe
+// there, not cosine sampling);
 // a miss sees the environment: E[Y_px²] = L_env² (zero variance).
-// A glossy receiver's forms by its material type (phong.h, ggx.h): the
-// radiance reflected toward wo at point p of object `receiver` and its
-// direct estimators' E[Y²]. Throws furnace::Error for a receiver that is not
-// glossy (is_glossy, reference.h) or a configuration its model does not solve.
-double glossy_reflected_radiance(const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo, size_t receiver);
-double glossy_second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo,
-                            size_t receiver, LightSelection selection = LightSelection::kUniform);
-
+// (glossy.h's glossy_reflected_radiance and glossy_second_moment).
 double pixel_center_second_moment(Strategy strategy, const Scene& scene, int px, int py,
                                   LightSelection selection = LightSelection::kUniform);
 

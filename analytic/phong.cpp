@@ -7,8 +7,6 @@
 #include <vector>
 
 #include "analytic/receiver_integrals.h"
-#include "analytic/unsupported.h"
-#include "core/error.h"
 
 namespace furnace::analytic {
 
@@ -30,13 +28,6 @@ double lobe_density(double exponent, double cos_alpha, double power) {
 // very same expression, so the very same double.
 double phong_brdf_from_power(double albedo, double exponent, double cos_alpha, double power) {
   return cos_alpha > 0 ? albedo * (exponent + 2) / (2 * kPi) * power : 0.0;
-}
-
-PhongReceiver receiver_at(const Scene& scene, const Vec3& n, const Vec3& wo, size_t receiver) {
-  const Material& m = scene.objects[receiver].material;
-  FURNACE_CHECK(m.type == BsdfType::kPhong);
-  if (!(dot(n, wo) > 0)) unsupported_configuration(scene, "a Phong receiver seen from below its horizon");
-  return PhongReceiver{n, wo, m.albedo, m.phong_exponent};
 }
 
 }  // namespace
@@ -65,24 +56,5 @@ inline BsdfValue PhongReceiver::at(double cos_theta, double cos_alpha) const {
 std::vector<double> PhongReceiver::parameters() const { return {double(BsdfType::kPhong), albedo, exponent}; }
 
 template class ReceiverModel<PhongReceiver>;
-
-double phong_sphere_reflectance(const PhongReceiver& receiver, const Vec3& center, double radius) {
-  return light_reflectance(receiver, ReceiverLight{false, center, radius, 1.0, 1.0});
-}
-
-double phong_directional_albedo(const PhongReceiver& receiver) {
-  return light_reflectance(receiver, ReceiverLight{true, {}, 0, 1.0, 1.0});
-}
-
-double phong_reflected_radiance(const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo, size_t receiver) {
-  return receiver_reflected_radiance(scene, p, receiver_at(scene, n, wo, receiver), receiver);
-}
-
-double phong_second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo,
-                           size_t receiver, LightSelection selection) {
-  if (is_path_tracer(strategy))
-    unsupported_configuration(scene, "the path tracer '" + strategy_name(strategy) + "' over a Phong receiver");
-  return receiver_second_moment(strategy, scene, p, receiver_at(scene, n, wo, receiver), receiver, selection);
-}
 
 }  // namespace furnace::analytic

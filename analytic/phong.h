@@ -54,34 +54,12 @@ class PhongReceiver final : public ReceiverModel<PhongReceiver> {
   bool vanishes_below_mirror_plane() const override { return true; }
   std::vector<double> parameters() const override;
   std::string name() const override { return "a Phong receiver"; }
+  Material material() const override { return Material{albedo, Phong{exponent}}; }
 
  private:
   double bsdf_ratio_;  // ρ²(e+2)²/(2π(e+1)): (f·cos θ)²/p_b per cos^e α·cos²θ
 };
 // Instantiated once, in phong.cpp.
 extern template class ReceiverModel<PhongReceiver>;
-
-// ∫_{cone ∩ n·ω>0} f·(n·ω) dω over the cone of a sphere of radius R whose
-// centre is at `center` relative to the receiving point (|center| > R): the
-// reflected radiance per unit emitted radiance, unoccluded.
-double phong_sphere_reflectance(const PhongReceiver& receiver, const Vec3& center, double radius);
-
-// ∫_{n·ω>0} f·(n·ω) dω: the directional albedo, the reflected radiance per
-// unit radiance of an unblocked constant environment.
-double phong_directional_albedo(const PhongReceiver& receiver);
-
-// Radiance reflected toward `wo` at point p of the Phong object `receiver`
-// (normal n facing wo), direct lighting only: sphere emitters (unoccluded)
-// and the constant environment (unblocked). Throws furnace::Error naming the
-// scene and the configuration for anything else (point lights, an
-// environment map, other emitter shapes, occluders).
-double phong_reflected_radiance(const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo, size_t receiver);
-
-// E[Y²] of the strategy's single-sample estimator of that radiance (Y the
-// reflected part only, emission excluded), for the lights
-// phong_reflected_radiance solves, under the given light selection. Throws
-// furnace::Error for a path tracer or an unsupported configuration.
-double phong_second_moment(Strategy strategy, const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& wo,
-                           size_t receiver, LightSelection selection = LightSelection::kUniform);
 
 }  // namespace furnace::analytic

@@ -132,6 +132,9 @@ class Receiver {
   virtual std::vector<double> parameters() const = 0;
   // "a Phong receiver": how refusals name it.
   virtual std::string name() const = 0;
+  // The material it models (type, albedo and the type's own parameters):
+  // how `furnace analytic` shows it.
+  virtual Material material() const = 0;
 
   // The machinery (receiver_integrals.h) instantiated for this BSDF:
   // ReceiverModel<R> defines both; see light_reflectance and
@@ -141,7 +144,8 @@ class Receiver {
 };
 
 // A BSDF's receiver: class MyReceiver final : public ReceiverModel<MyReceiver>
-// with at(), vanishes_below_mirror_plane(), parameters() and name(); its .cpp
+// with at(), vanishes_below_mirror_plane(), parameters(), name() and
+// material(); glossy_receiver (glossy.h) makes it for its material type; its .cpp
 // includes receiver_integrals.h and instantiates template class
 // ReceiverModel<MyReceiver>, so the machinery calls MyReceiver::at inline.
 template <class R>

@@ -11,9 +11,8 @@
 #include "analytic/disk_light.h"
 #include "analytic/emitter.h"
 #include "analytic/environment.h"
-#include "analytic/ggx.h"
+#include "analytic/glossy.h"
 #include "analytic/intersect.h"
-#include "analytic/phong.h"
 #include "analytic/point_light.h"
 #include "analytic/unsupported.h"
 #include "core/error.h"
@@ -64,29 +63,12 @@ double hit_radiance(const Scene& scene, const Hit& hit, const Vec3& direction) {
   if (object.material.albedo == 0) return le;
   // Shade with the normal facing the viewer (two-sided surfaces).
   const Vec3 n = cos_view < 0 ? hit.normal : -hit.normal;
-  switch (object.material.type) {
-    case BsdfType::kPhong:  // the lobe integrated over the lights (phong.h)
-      return le + phong_reflected_radiance(scene, hit.point, n, -direction, hit.object_index);
-    case BsdfType::kLambertian:
-      return le + object.material.albedo * kInvPi * irradiance(scene, hit.point, n, hit.object_index);
-    case BsdfType::kMirror:
-      break;  // a delta lobe: no receiver model
-    case BsdfType::kGgx:  // the microfacet BRDF integrated over the lights (ggx.h)
-      return le + ggx_reflected_radiance(scene, hit.point, n, -direction, hit.object_index);
-  }
+  if (object.material.info().glossy)  // the lobe integrated over the lights (glossy.h)
+    return le + glossy_reflected_radiance(scene, hit.point, n, -direction, hit.object_index);
+  if (object.material.as<Lambertian>())
+    return le + object.material.albedo * kInvPi * irradiance(scene, hit.point, n, hit.object_index);
+  // A mirror, a delta lobe, has no receiver model.
   unsupported_configuration(scene, "a camera ray hitting the non-Lambertian, non-black object '" + object.name + "'");
-}
-
-bool is_glossy(BsdfType type) {
-  switch (type) {
-    case BsdfType::kPhong:
-    case BsdfType::kGgx:
-      return true;
-    case BsdfType::kLambertian:
-    case BsdfType::kMirror:
-      return false;
-  }
-  return false;
 }
 
 std::vector<double> reference_image(const Scene& scene) {

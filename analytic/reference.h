@@ -41,9 +41,8 @@ double irradiance(const Scene& scene, const Vec3& p, const Vec3& n, std::optiona
 
 // Radiance the camera sees through the centre of pixel (px, py) for direct
 // lighting only: Le(x) + (ρ/π)·E(x) at the first hit x of a Lambertian
-// surface, Le(x) + phong_reflected_radiance (phong.h) at a Phong surface,
-// Le(x) + ggx_reflected_radiance (ggx.h) at a GGX surface; the environment
-// radiance on a miss.
+// surface, Le(x) + glossy_reflected_radiance (glossy.h) at a glossy (Phong,
+// GGX) surface; the environment radiance on a miss.
 double pixel_center_radiance(const Scene& scene, int px, int py);
 
 // The same quantity for any camera ray (origin, unit direction): what
@@ -54,10 +53,6 @@ double ray_radiance(const Scene& scene, const Vec3& origin, const Vec3& directio
 // `direction`: its emission toward the viewer plus the direct light its BSDF
 // reflects there (Lambertian, Phong, GGX; a mirror is refused).
 double hit_radiance(const Scene& scene, const Hit& hit, const Vec3& direction);
-
-// Whether a material type is glossy: a lobe with a receiver model (Phong,
-// GGX), answered by glossy_reflected_radiance (moments.h).
-bool is_glossy(BsdfType type);
 
 // All pixel centres, row-major (index = py * width + px).
 std::vector<double> reference_image(const Scene& scene);

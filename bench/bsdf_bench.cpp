@@ -37,7 +37,7 @@ const std::vector<std::array<double, 2>>& uniforms() {
 }
 
 void BM_BsdfSample(benchmark::State& state, Material material) {
-  const Bsdf bsdf{&material};
+  const Bsdf bsdf(material);
   const double t = kViewDeg * kPi / 180;
   const Vec3 wo{std::sin(t), 0, std::cos(t)};
   const auto& u = uniforms();
@@ -55,14 +55,9 @@ void BM_BsdfSample(benchmark::State& state, Material material) {
   state.counters["failed_fraction"] = double(failed) / (double(state.iterations()) * double(kBatch));
 }
 
-Material lambertian() { return Material{BsdfType::kLambertian, 0.8}; }
-Material phong(double n) { return Material{BsdfType::kPhong, 0.8, n}; }
-Material ggx(double alpha, MicrofacetShadowing shadowing) {
-  Material m{BsdfType::kGgx, 0.8};
-  m.ggx_alpha = alpha;
-  m.shadowing = shadowing;
-  return m;
-}
+Material lambertian() { return Material{0.8, Lambertian{}}; }
+Material phong(double n) { return Material{0.8, Phong{n}}; }
+Material ggx(double alpha, MicrofacetShadowing shadowing) { return Material{0.8, Ggx{alpha, shadowing}}; }
 
 BENCHMARK_CAPTURE(BM_BsdfSample, lambertian, lambertian());
 BENCHMARK_CAPTURE(BM_BsdfSample, phong_n100, phong(100));

@@ -19,9 +19,6 @@ namespace furnace::cli {
 namespace {
 
 void write_pbrt_v4_file(const Scene& scene, const ExportCommandOptions& o) {
-  if (o.emitter_grid || o.sphere_subdivisions)
-    throw Error("options --emitter-grid and --sphere-subdivisions apply to --format cycles only (pbrt-v4 "
-                "renders rectangles and spheres exactly).");
   exporter::PbrtV4Options options;
   if (o.spp) options.spp = *o.spp;
   options.seed = o.seed;
@@ -31,9 +28,6 @@ void write_pbrt_v4_file(const Scene& scene, const ExportCommandOptions& o) {
 }
 
 void write_cycles_file(const Scene& scene, const ExportCommandOptions& o) {
-  if (o.seed)
-    throw Error("option --seed is not written into a Cycles script: pass it to the script (-- --seed S or "
-                "--seeds A-B).");
   exporter::CyclesOptions options;
   if (o.spp) options.spp = *o.spp;
   options.max_segments = o.max_segments;
@@ -42,17 +36,45 @@ void write_cycles_file(const Scene& scene, const ExportCommandOptions& o) {
   exporter::write_cycles(scene, options, o.output);
 }
 
+// The options that only some formats take (the others, --scene, --format,
+// --spp, --max-depth and --output, every format takes).
+struct FormatOptionInfo {
+  const char* flag;
+  bool (*given)(const ExportCommandOptions& options);
+};
+constexpr std::array<FormatOptionInfo, 3> kFormatOptions = {{
+    {"--seed", [](const ExportCommandOptions& o) { return o.seed.has_value(); }},
+    {"--emitter-grid", [](const ExportCommandOptions& o) { return o.emitter_grid.has_value(); }},
+    {"--sphere-subdivisions", [](const ExportCommandOptions& o) { return o.sphere_subdivisions.has_value(); }},
+}};
+
 struct ExportFormatInfo {
   ExportFormat format;
   const char* name;  // --format's value
   void (*write)(const Scene& scene, const ExportCommandOptions& options);
+  // Its decision on each option of kFormatOptions, in that order: nullptr
+  // where it takes the option, else the sentence that refuses it.
+  std::array<const char*, kFormatOptions.size()> refusal;
 };
+
+constexpr const char* kMeshOptionsRefusal =
+    "options --emitter-grid and --sphere-subdivisions apply to --format cycles only (pbrt-v4 renders rectangles and "
+    "spheres exactly).";
 
 // In the order --help lists them.
 constexpr std::array<ExportFormatInfo, 2> kExportFormats = {{
-    {ExportFormat::kPbrtV4, "pbrt-v4", write_pbrt_v4_file},
-    {ExportFormat::kCycles, "cycles", write_cycles_file},
+    {ExportFormat::kPbrtV4, "pbrt-v4", write_pbrt_v4_file, {nullptr, kMeshOptionsRefusal, kMeshOptionsRefusal}},
+    {ExportFormat::kCycles, "cycles", write_cycles_file,
+     {"option --seed is not written into a Cycles script: pass it to the script (-- --seed S or --seeds A-B).",
+      nullptr, nullptr}},
 }};
+
+// Refuses the first option of `o` (in kFormatOptions' order) that its format
+// does not take.
+void refuse_other_formats_options(const ExportFormatInfo& format, const ExportCommandOptions& o) {
+  for (size_t i = 0; i < kFormatOptions.size(); ++i)
+    if (format.refusal[i] && kFormatOptions[i].given(o)) throw Error(format.refusal[i]);
+}
 
 // Every enumerator 0 … kExportFormats.size() − 1 has exactly one row.
 constexpr bool every_format_has_one_row() {
@@ -110,6 +132,7 @@ int run_export(const ExportCommandOptions& o) {
   // (core/path_length.h, with furnace's default roulette depth): another
   // renderer would render it forever too.
   require_bounded_paths(scene, o.max_segments, RenderOptions{}.roulette_depth);
+  refuse_other_formats_options(format, o);
   format.write(scene, o);
   fmt::print("exported {} ({}) for {} -> {}\n", scene.name, scene.source, format.name, o.output);
   return kExitPass;

@@ -22,15 +22,13 @@ const Object* most_reflective(const Scene& scene) {
   return best;
 }
 
-bool keeps_energy(BsdfType type) { return type == BsdfType::kLambertian || type == BsdfType::kMirror; }
-
 }  // namespace
 
 std::optional<std::string> infinite_answer_reason(const Scene& scene, int max_segments) {
   if (!scene.closed || max_segments != kUnlimitedDepth || scene.objects.empty()) return std::nullopt;
   bool emits = !scene.point_lights.empty();
   for (const Object& o : scene.objects) {
-    if (!(o.material.albedo >= 1) || !keeps_energy(o.material.type)) return std::nullopt;
+    if (!(o.material.albedo >= 1) || !o.material.info().keeps_energy_at_unit_albedo) return std::nullopt;
     emits = emits || o.is_emitter();
   }
   if (!emits) return std::nullopt;

@@ -17,13 +17,6 @@
 
 namespace furnace {
 
-const char* bsdf_type_name(BsdfType type) {
-  for (const BsdfTypeInfo& info : kBsdfTypeTable)
-    if (info.type == type) return info.name;
-  const std::string what = fmt::format("BsdfType value {} is no enumerator of BsdfType", static_cast<int>(type));
-  check_failed(what.c_str(), __FILE__, __LINE__);
-}
-
 Camera::Ray Camera::pixel_center_ray(int px, int py) const {
   const Vec3 f = normalize(forward);
   const Vec3 right = normalize(cross(f, up));
@@ -213,10 +206,14 @@ class Reader {
     return Reader(v, source_, qualify(field));
   }
   // Refuses every key of this object that no read asked about, naming the
-  // closest known one.
-  void reject_unknown_fields() const {
+  // closest known one; `owner` ("a ggx material"), when given, names whose
+  // fields they are.
+  void reject_unknown_fields(const std::string& owner = "") const {
     for (const auto& item : j_.items()) {
       if (std::find(known_.begin(), known_.end(), item.key()) != known_.end()) continue;
+      if (!owner.empty())
+        fail(printable(item.key()), fmt::format("is not a field of {} (did you mean '{}'? the fields of {}: {})", owner,
+                                                closest(item.key(), known_), owner, joined(known_)));
       fail(printable(item.key()), fmt::format("is not a known field here (did you mean '{}'? known: {})",
                                               closest(item.key(), known_), joined(known_)));
     }
@@ -327,6 +324,31 @@ Shape parse_shape(const Reader& r) {
   r.fail("type", fmt::format("must be one of rectangle, disk, sphere, triangle, got \"{}\"", printable(type)));
 }
 
+// A material type's fields read through the JSON object's Reader.
+class JsonMaterialFields final : public MaterialFieldReader {
+ public:
+  explicit JsonMaterialFields(const Reader& r) : r_(r) {}
+  bool has(const std::string& field) const override { return r_.has(field); }
+  double number_in(const std::string& field, double lo, double hi) const override {
+    return r_.number_in(field, lo, hi);
+  }
+  size_t word_in(const std::string& field, const std::vector<const char*>& words) const override {
+    const std::string word = r_.string(field);
+    std::vector<std::string> names;
+    for (size_t i = 0; i < words.size(); ++i) {
+      if (word == words[i]) return i;
+      names.emplace_back(words[i]);
+    }
+    r_.fail(field, fmt::format("must be one of {}, got \"{}\"", joined(names), printable(word)));
+  }
+
+ private:
+  const Reader& r_;
+};
+
+// The material: its type's word, the common albedo, then the type's own
+// fields (its struct's parse(), core/material.h). A field of another type
+// is refused naming this type's fields.
 Material parse_material(const Reader& r) {
   Material m;
   const std::string type = r.string("type");
@@ -337,22 +359,10 @@ Material parse_material(const Reader& r) {
     for (const BsdfTypeInfo& info : kBsdfTypeTable) accepted += (accepted.empty() ? "" : ", ") + std::string(info.name);
     r.fail("type", fmt::format("must be one of {}, got \"{}\"", accepted, printable(type)));
   }
-  m.type = row->type;
   // Albedo above 1 creates energy; the furnace tests rely on ρ ≤ 1.
   if (r.has("albedo")) m.albedo = r.number_in("albedo", 0, 1);
-  if (m.type == BsdfType::kPhong)
-    m.phong_exponent = r.has("exponent") ? r.number_in("exponent", 0, lim::kMaxPhongExponent) : 1.0;
-  if (m.type == BsdfType::kGgx) {
-    m.ggx_alpha = r.number_in("alpha", lim::kMinGgxAlpha, 1.0);
-    if (r.has("shadowing")) {
-      const std::string name = r.string("shadowing");
-      const auto form = std::find_if(kMicrofacetShadowingTable.begin(), kMicrofacetShadowingTable.end(),
-                                     [&](const MicrofacetShadowingInfo& info) { return name == info.name; });
-      if (form == kMicrofacetShadowingTable.end())
-        r.fail("shadowing", fmt::format("must be one of separable, height_correlated, got \"{}\"", printable(name)));
-      m.shadowing = form->shadowing;
-    }
-  }
+  m.bsdf = parse_parameters(row->type, JsonMaterialFields(r));
+  r.reject_unknown_fields(fmt::format("a {} material", row->name));
   return m;
 }
 
@@ -533,7 +543,6 @@ Scene parse_scene_json(const json& j, const std::string& source) {
     if (o.has("material")) {
       const Reader material = o.object("material");
       obj.material = parse_material(material);
-      material.reject_unknown_fields();
     }
     obj.emitted_radiance = o.radiometric_or_zero("emission", "W·m⁻²·sr⁻¹");
     obj.two_sided = o.boolean_or("two_sided", false);

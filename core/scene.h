@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/environment_map.h"
+#include "core/material.h"
 #include "core/overloaded.h"
 #include "core/vec3.h"
 
@@ -75,69 +76,6 @@ inline std::optional<Plane> plane_of(const Shape& shape) {
                                [](const Triangle& t) { return std::optional<Plane>(Plane{t.p0, t.normal()}); }},
                     shape);
 }
-
-enum class BsdfType { kLambertian, kMirror, kPhong, kGgx };
-
-// The scene file's word for each material type ("type" of a material): the
-// loader parses these and every message that names a type uses them.
-struct BsdfTypeInfo {
-  BsdfType type;
-  const char* name;
-};
-inline constexpr std::array<BsdfTypeInfo, 4> kBsdfTypeTable = {{
-    {BsdfType::kLambertian, "lambertian"},
-    {BsdfType::kMirror, "mirror"},
-    {BsdfType::kPhong, "phong"},
-    {BsdfType::kGgx, "ggx"},
-}};
-// Every enumerator 0 … kBsdfTypeTable.size() − 1 has exactly one row.
-constexpr bool every_bsdf_type_has_one_row() {
-  for (size_t v = 0; v < kBsdfTypeTable.size(); ++v) {
-    int rows = 0;
-    for (const BsdfTypeInfo& info : kBsdfTypeTable) rows += info.type == BsdfType(v);
-    if (rows != 1) return false;
-  }
-  return true;
-}
-static_assert(every_bsdf_type_has_one_row(), "kBsdfTypeTable needs one row per BsdfType");
-// The type's word; a value that is no enumerator of BsdfType (cast from an
-// integer) is an internal error.
-const char* bsdf_type_name(BsdfType type);
-
-// The Smith masking-shadowing term G2 of a microfacet BSDF, from the
-// one-direction Λ(ω) of its distribution (Heitz 2014, "Understanding the
-// masking-shadowing function in microfacet-based BRDFs"):
-//  - separable: G2 = G1(ωo)·G1(ωi), G1 = 1/(1 + Λ) (Cycles 3.4, Mitsuba 3);
-//  - height-correlated: G2 = 1/(1 + Λ(ωo) + Λ(ωi)) (pbrt-v4, Cycles ≥ 3.5).
-// The two agree when either direction is the normal (Λ = 0 there).
-enum class MicrofacetShadowing { kSeparable, kHeightCorrelated };
-struct MicrofacetShadowingInfo {
-  MicrofacetShadowing shadowing;
-  const char* name;
-};
-inline constexpr std::array<MicrofacetShadowingInfo, 2> kMicrofacetShadowingTable = {{
-    {MicrofacetShadowing::kSeparable, "separable"},
-    {MicrofacetShadowing::kHeightCorrelated, "height_correlated"},
-}};
-static_assert(kMicrofacetShadowingTable[0].shadowing == MicrofacetShadowing(0) &&
-                  kMicrofacetShadowingTable[1].shadowing == MicrofacetShadowing(1),
-              "kMicrofacetShadowingTable lists the enumerators in order");
-inline const char* microfacet_shadowing_name(MicrofacetShadowing s) {
-  return kMicrofacetShadowingTable[static_cast<size_t>(s)].name;
-}
-
-struct Material {
-  BsdfType type = BsdfType::kLambertian;
-  // Lambertian reflectance ρ, mirror reflectance, Phong lobe albedo, or the
-  // GGX constant factor on f (Fresnel ≡ 1 times the albedo).
-  double albedo = 0;
-  double phong_exponent = 0;  // normalised Phong exponent (BsdfType::kPhong only)
-  // Isotropic Trowbridge–Reitz (GGX) microfacets (BsdfType::kGgx only): the
-  // roughness α of D(m) = α²/(π cos⁴θm (α² + tan²θm)²), in
-  // [scene_limits::kMinGgxAlpha, 1], and the Smith form of G2.
-  double ggx_alpha = 0;
-  MicrofacetShadowing shadowing = MicrofacetShadowing::kHeightCorrelated;
-};
 
 struct Object {
   std::string name;
@@ -241,13 +179,7 @@ inline constexpr double kMinDirectionLength = 1e-6;
 // probabilities made from them, normal doubles (no denormals, no underflow).
 inline constexpr double kMinRadiometric = 1e-6;
 inline constexpr double kMaxRadiometric = 1e8;
-// Normalised Phong exponent n: the BSDF chi-square tests cover n ≤ 1000; 1e4
-// (lobe width ≈ 1/√n = 0.01 rad) is ten times that; a sharper lobe is a mirror.
-inline constexpr double kMaxPhongExponent = 1e4;
-// GGX roughness α: the references are exact and the renderer free of NaN,
-// Inf and zero pdfs with non-zero f down to this (tests/renderer/ggx_test.cpp,
-// tests/analytic/ggx_test.cpp); a smoother surface is a mirror.
-inline constexpr double kMinGgxAlpha = 1e-3;
+// Material parameters' ranges (kMaxPhongExponent, kMinGgxAlpha): core/material.h.
 // Pixels per image side.
 inline constexpr int kMaxResolution = 16384;
 // Memory: a render holds per pixel its running moments (40 bytes) and a

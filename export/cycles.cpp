@@ -206,7 +206,8 @@ CyclesMesh sphere_mesh(const Sphere& sp, int subdivisions) {
 
 // How the exported script renders one object's material, or the reason it
 // cannot (without the scene's name). The Cycles export's only branch on the
-// material type: one case per BsdfType, no default. The script's builder
+// material type: one case per alternative of BsdfParameters, no catch-all
+// (core/overloaded.h). The script's builder
 // (cycles_scene.py) decides nothing: it makes a Glossy SHARP BSDF where
 // `mirror` is true and a Diffuse BSDF otherwise.
 struct CyclesMaterial {
@@ -225,17 +226,16 @@ CyclesMaterial refused(std::string reason) { return {false, std::move(reason), s
 // with the separable Smith G2, no Fresnel term), roughness r with α = r², so
 // r = √α; Color = albedo multiplies f. The energy-conserving variant writes
 // Multiscatter GGX instead (reference only: see CyclesOptions).
-CyclesMaterial ggx_glossy(const Scene& scene, size_t index, const CyclesOptions& options) {
-  const Material& m = scene.objects[index].material;
+CyclesMaterial ggx_glossy(const Scene& scene, size_t index, const Ggx& ggx, const CyclesOptions& options) {
   const std::string what = object_material_text(scene, index);
   if (options.energy_conserving_ggx) {
     if (auto reason = energy_conserving_ggx_refusal(scene))
       return refused(fmt::format("the energy-conserving GGX variant is only checked where an energy-conserving "
                                  "BSDF's answer is L_env * albedo, and {}",
                                  *reason));
-    return {false, std::nullopt, std::string("MULTI_GGX"), std::sqrt(m.ggx_alpha)};
+    return {false, std::nullopt, std::string("MULTI_GGX"), std::sqrt(ggx.alpha)};
   }
-  switch (m.shadowing) {
+  switch (ggx.shadowing) {
     case MicrofacetShadowing::kSeparable:
       break;
     case MicrofacetShadowing::kHeightCorrelated:
@@ -246,7 +246,7 @@ CyclesMaterial ggx_glossy(const Scene& scene, size_t index, const CyclesOptions&
                                    what, *reason));
       break;
   }
-  return {false, std::nullopt, std::string("GGX"), std::sqrt(m.ggx_alpha)};
+  return {false, std::nullopt, std::string("GGX"), std::sqrt(ggx.alpha)};
 }
 
 CyclesMaterial cycles_material(const Scene& scene, size_t index, const CyclesOptions& options) {
@@ -254,22 +254,22 @@ CyclesMaterial cycles_material(const Scene& scene, size_t index, const CyclesOpt
   // Black, whatever the type (reflects() decides it per type): the builder's
   // black Diffuse BSDF reflects nothing either.
   if (!reflects(o.material)) return diffuse_bsdf();
-  switch (o.material.type) {
-    case BsdfType::kLambertian:
-      return diffuse_bsdf();
-    case BsdfType::kMirror:
-      if (!is_planar(o.shape))
-        return refused(fmt::format("the mirror {} is a sphere, which Cycles would render as a faceted polyhedron "
-                                   "whose flat facets reflect along other directions than the sphere",
-                                   object_material_text(scene, index)));
-      return glossy_sharp();
-    case BsdfType::kPhong:
-      return refused(fmt::format("the object {} has a normalised Phong BSDF, which Cycles does not have",
-                                 object_material_text(scene, index)));
-    case BsdfType::kGgx:
-      return ggx_glossy(scene, index, options);
-  }
-  unknown_bsdf_type(o.material.type);
+  return std::visit(
+      overloaded{[&](const Lambertian&) { return diffuse_bsdf(); },
+                 [&](const Mirror&) {
+                   if (!is_planar(o.shape))
+                     return refused(fmt::format("the mirror {} is a sphere, which Cycles would render as a faceted "
+                                                "polyhedron whose flat facets reflect along other directions than "
+                                                "the sphere",
+                                                object_material_text(scene, index)));
+                   return glossy_sharp();
+                 },
+                 [&](const Phong&) {
+                   return refused(fmt::format("the object {} has a normalised Phong BSDF, which Cycles does not have",
+                                              object_material_text(scene, index)));
+                 },
+                 [&](const Ggx& ggx) { return ggx_glossy(scene, index, ggx, options); }},
+      o.material.bsdf);
 }
 
 // The reason Cycles (as exported here) cannot express `scene`, without the scene's name.
@@ -374,14 +374,15 @@ std::string ggx_lines(const Scene& scene, const CyclesOptions& options) {
   bool any = false;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const Object& o = scene.objects[i];
-    if (o.material.type != BsdfType::kGgx || !reflects(o.material)) continue;
+    const Ggx* g = o.material.as<Ggx>();
+    if (!g || !reflects(o.material)) continue;
     any = true;
     text += fmt::format("# - The GGX object '{}' (alpha {}, shadowing {}, albedo {}): Glossy BSDF {}, roughness\n"
                         "#   sqrt(alpha) = {}, Color {}.\n",
-                        comment_text(o.name), o.material.ggx_alpha, microfacet_shadowing_name(o.material.shadowing),
-                        o.material.albedo, options.energy_conserving_ggx ? "MULTI_GGX" : "GGX",
-                        num(std::sqrt(o.material.ggx_alpha)), num(o.material.albedo));
-    if (!options.energy_conserving_ggx && o.material.shadowing == MicrofacetShadowing::kHeightCorrelated)
+                        comment_text(o.name), g->alpha, microfacet_shadowing_name(g->shadowing), o.material.albedo,
+                        options.energy_conserving_ggx ? "MULTI_GGX" : "GGX", num(std::sqrt(g->alpha)),
+                        num(o.material.albedo));
+    if (!options.energy_conserving_ggx && g->shadowing == MicrofacetShadowing::kHeightCorrelated)
       text += "#   The scene asks for the height-correlated form; light leaves this surface towards the eye only\n"
               "#   along its normal, where it equals Cycles 3.4's separable form (Lambda(n) = 0).\n";
   }
@@ -458,7 +459,7 @@ std::optional<std::string> energy_conserving_ggx_refusal(const Scene& scene) {
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const Object& o = scene.objects[i];
     if (o.is_emitter()) return fmt::format("the object '{}' emits", o.name);
-    if (o.material.type != BsdfType::kGgx || !reflects(o.material))
+    if (!o.material.as<Ggx>() || !reflects(o.material))
       return fmt::format("the object {} is not a reflecting GGX surface", object_material_text(scene, i));
     if (auto reason = not_seen_only_along_normal(scene, i))
       return fmt::format("not every GGX surface sees the sky alone at normal view: {}", *reason);

@@ -34,6 +34,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/overloaded.h"
 #include "export/scene_facts.h"
 #include "export/text.h"
 
@@ -58,7 +59,7 @@ std::string constant_spectrum(double value) { return fmt::format("[300 {0} 900 {
 // Whether `o` reflects as a mirror (pbrt_material() writes it as a conductor
 // or refuses it); any other reflector would light a mirror at oblique
 // incidence.
-bool is_reflecting_mirror(const Object& o) { return reflects(o.material) && o.material.type == BsdfType::kMirror; }
+bool is_reflecting_mirror(const Object& o) { return reflects(o.material) && o.material.as<Mirror>(); }
 
 // Why the mirror scene.objects[index] is not met only at normal incidence,
 // where pbrt's conductor reflects exactly its reflectance; empty when it is.
@@ -85,7 +86,8 @@ std::optional<std::string> mirror_refusal(const Scene& scene, size_t index) {
 
 // How pbrt-v4 renders one object's material: its Material statement, or the
 // reason pbrt-v4 cannot (without the scene's name). The pbrt-v4 export's only
-// branch on the material type: one case per BsdfType, no default.
+// branch on the material type: one case per alternative of BsdfParameters, no
+// catch-all (core/overloaded.h).
 struct PbrtMaterial {
   std::string statement;                // the Material statement, when accepted
   std::optional<std::string> refusal;   // set when refused
@@ -101,18 +103,18 @@ PbrtMaterial refused(std::string reason) { return {"", std::move(reason)}; }
 // polarisations reflect fully at every angle), α written as itself
 // (remaproughness false). pbrt-v4 implements the height-correlated Smith
 // form only, and its conductor has no constant factor on f.
-PbrtMaterial ggx_conductor(const Scene& scene, size_t index) {
+PbrtMaterial ggx_conductor(const Scene& scene, size_t index, const Ggx& ggx) {
   const Material& m = scene.objects[index].material;
   const std::string what = object_material_text(scene, index);
   if (m.albedo != 1)
     return refused(fmt::format("the GGX object {} has albedo {}, and pbrt-v4's conductor has no constant factor "
                                "on its reflection (the export writes F ≡ 1, exact for albedo 1 only)",
                                what, m.albedo));
-  if (static_cast<float>(m.ggx_alpha) < kPbrtMinRoughAlpha)
+  if (static_cast<float>(ggx.alpha) < kPbrtMinRoughAlpha)
     return refused(fmt::format("the GGX object {} has alpha {}, and pbrt-v4 renders a conductor with alpha below "
                                "{} as a perfect mirror",
-                               what, m.ggx_alpha, kPbrtMinRoughAlpha));
-  switch (m.shadowing) {
+                               what, ggx.alpha, kPbrtMinRoughAlpha));
+  switch (ggx.shadowing) {
     case MicrofacetShadowing::kHeightCorrelated:
       break;
     case MicrofacetShadowing::kSeparable:
@@ -125,7 +127,7 @@ PbrtMaterial ggx_conductor(const Scene& scene, size_t index) {
   }
   return {fmt::format("Material \"conductor\" \"spectrum eta\" [300 0 900 0] \"spectrum k\" [300 1 900 1] "
                       "\"float roughness\" {} \"bool remaproughness\" false\n",
-                      num(m.ggx_alpha)),
+                      num(ggx.alpha)),
           std::nullopt};
 }
 
@@ -134,26 +136,27 @@ PbrtMaterial pbrt_material(const Scene& scene, size_t index) {
   // Black, whatever the type (reflects() decides it per type): a black
   // diffuse surface reflects nothing either.
   if (!reflects(m)) return diffuse(0);
-  switch (m.type) {
-    case BsdfType::kLambertian:
-      return diffuse(m.albedo);
-    case BsdfType::kMirror:
-      // pbrt's only smooth mirror is a conductor whose Fresnel reflectance
-      // equals ρ at normal incidence only; export it only where every path
-      // meets it there.
-      if (auto reason = mirror_refusal(scene, index))
-        return refused("pbrt-v4 has no ideal mirror (its smooth conductor of reflectance r reflects r at normal "
-                       "incidence only) and " + *reason);
-      return {fmt::format("Material \"conductor\" \"spectrum reflectance\" {} \"float roughness\" 0\n",
-                          constant_spectrum(m.albedo)),
-              std::nullopt, true};
-    case BsdfType::kPhong:
-      return refused(fmt::format("the object {} has a normalised Phong BSDF, which pbrt-v4 does not have",
-                                 object_material_text(scene, index)));
-    case BsdfType::kGgx:
-      return ggx_conductor(scene, index);
-  }
-  unknown_bsdf_type(m.type);
+  return std::visit(
+      overloaded{[&](const Lambertian&) { return diffuse(m.albedo); },
+                 [&](const Mirror&) {
+                   // pbrt's only smooth mirror is a conductor whose Fresnel
+                   // reflectance equals ρ at normal incidence only; export it
+                   // only where every path meets it there.
+                   if (auto reason = mirror_refusal(scene, index))
+                     return refused("pbrt-v4 has no ideal mirror (its smooth conductor of reflectance r reflects r "
+                                    "at normal incidence only) and " + *reason);
+                   return PbrtMaterial{fmt::format("Material \"conductor\" \"spectrum reflectance\" {} "
+                                                   "\"float roughness\" 0\n",
+                                                   constant_spectrum(m.albedo)),
+                                       std::nullopt, true};
+                 },
+                 [&](const Phong&) {
+                   return refused(fmt::format("the object {} has a normalised Phong BSDF, which pbrt-v4 does not "
+                                              "have",
+                                              object_material_text(scene, index)));
+                 },
+                 [&](const Ggx& ggx) { return ggx_conductor(scene, index, ggx); }},
+      m.bsdf);
 }
 
 // The reason pbrt-v4 cannot express `scene`, without the scene's name.
@@ -256,10 +259,11 @@ std::string header(const Scene& scene, const PbrtV4Options& options) {
   std::string ggx;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const Object& o = scene.objects[i];
-    if (o.material.type != BsdfType::kGgx || !reflects(o.material)) continue;
-    ggx += fmt::format("#   '{}' (alpha {}, shadowing {}): \"float roughness\" {}.\n", comment_text(o.name),
-                       o.material.ggx_alpha, microfacet_shadowing_name(o.material.shadowing), num(o.material.ggx_alpha));
-    if (o.material.shadowing == MicrofacetShadowing::kSeparable)
+    const Ggx* g = o.material.as<Ggx>();
+    if (!g || !reflects(o.material)) continue;
+    ggx += fmt::format("#   '{}' (alpha {}, shadowing {}): \"float roughness\" {}.\n", comment_text(o.name), g->alpha,
+                       microfacet_shadowing_name(g->shadowing), num(g->alpha));
+    if (g->shadowing == MicrofacetShadowing::kSeparable)
       ggx += "#     The scene asks for the separable form: light leaves this surface towards the eye only along\n"
              "#     its normal (it faces the orthographic camera; every other object is black or in its plane),\n"
              "#     where the two forms are equal (Lambda(n) = 0), so pbrt's height-correlated G2 is exact here.\n";

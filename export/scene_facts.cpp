@@ -13,12 +13,7 @@ namespace furnace::exporter {
 
 std::string object_material_text(const Scene& scene, size_t index) {
   const Object& o = scene.objects.at(index);
-  if (o.material.type == BsdfType::kGgx)
-    return fmt::format("'{}' (objects[{}].material.type \"{}\", albedo {}, alpha {}, shadowing \"{}\")", o.name,
-                       index, bsdf_type_name(o.material.type), o.material.albedo, o.material.ggx_alpha,
-                       microfacet_shadowing_name(o.material.shadowing));
-  return fmt::format("'{}' (objects[{}].material.type \"{}\", albedo {})", o.name, index,
-                     bsdf_type_name(o.material.type), o.material.albedo);
+  return fmt::format("'{}' (objects[{}].material.{})", o.name, index, o.material.text());
 }
 
 namespace {
@@ -69,35 +64,18 @@ std::optional<std::string> not_seen_only_along_normal(const Scene& scene, size_t
   return std::nullopt;
 }
 
-bool reflects(const Material& material) {
-  switch (material.type) {
-    case BsdfType::kLambertian:  // ρ/π
-    case BsdfType::kMirror:      // ρ times the specular delta
-    case BsdfType::kPhong:       // the albedo times a normalised lobe
-    case BsdfType::kGgx:         // the albedo times D·G2/(4 cos θo cos θi)
-      return material.albedo > 0;
-  }
-  unknown_bsdf_type(material.type);
-}
+bool reflects(const Material& material) { return material.reflects(); }
 
 bool direct_lighting_is_complete(const Scene& scene) {
   int reflecting = 0;
   for (const Object& o : scene.objects) {
     if (!reflects(o.material)) continue;
     ++reflecting;
-    switch (o.material.type) {
-      case BsdfType::kLambertian:
-        // A planar reflector cannot light itself; a sphere's inside can.
-        if (!is_planar(o.shape)) return false;
-        break;
-      // The direct-lighting answer is claimed (and measured by the peer
-      // tests) for a Lambertian reflector only; a scene with any other
-      // reflector is checked at the depth rendered.
-      case BsdfType::kMirror:
-      case BsdfType::kPhong:
-      case BsdfType::kGgx:
-        return false;
-    }
+    // The direct-lighting answer is claimed (and measured by the peer tests)
+    // for a Lambertian reflector only; a scene with any other reflector is
+    // checked at the depth rendered. A planar reflector cannot light itself;
+    // a sphere's inside can.
+    if (!o.material.as<Lambertian>() || !is_planar(o.shape)) return false;
   }
   return reflecting <= 1;
 }
@@ -111,11 +89,6 @@ std::string direct_lighting_clause(const Scene& scene, int max_segments) {
              ? ",\n# which is direct lighting here: light reaches the eye after at most one bounce, off the only "
                "reflector"
              : "";
-}
-
-void unknown_bsdf_type(BsdfType type) {
-  const std::string what = fmt::format("BsdfType value {} is no enumerator of BsdfType", static_cast<int>(type));
-  check_failed(what.c_str(), __FILE__, __LINE__);
 }
 
 }  // namespace furnace::exporter

@@ -2,10 +2,9 @@
 // instead of in one exporter: whether an object reflects at all, an object's
 // material in a refusal sentence, and which
 // `furnace check --max-depth` has the reference a render of the complete
-// light transport must match. Each decision that depends on the material
-// type is a switch with one case per BsdfType and no default, so a new type
-// fails the build here (-Werror=switch, export/CMakeLists.txt) until it is
-// decided (docs/exporters.md).
+// light transport must match. None branches on the material type: each
+// format's one exhaustive visit over the types is in its own writer
+// (pbrt_material, cycles_material), and these read the type's table row.
 #pragma once
 
 #include <cstddef>
@@ -17,8 +16,8 @@
 namespace furnace::exporter {
 
 // An object's material as its scene file states it, for refusal sentences:
-// 'receiver' (objects[0].material.type "phong", albedo 0.5); a GGX material
-// adds its roughness and Smith form: 'strip' (objects[1].material.type
+// 'floor' (objects[0].material.type "lambertian", albedo 0.5), with the
+// type's own fields after the albedo: 'strip' (objects[1].material.type
 // "ggx", albedo 0.8, alpha 0.3, shadowing "separable").
 std::string object_material_text(const Scene& scene, size_t index);
 
@@ -40,10 +39,9 @@ std::optional<std::string> not_seen_only_along_normal(const Scene& scene, size_t
 // below 5e-10: far below any Monte Carlo test's resolution.
 inline constexpr double kNormalViewTolerance = 1e-9;
 
-// Whether the material reflects any light. Every current type scales its
-// whole reflection by material.albedo (Lambertian ρ/π, a mirror's ρ·δ,
-// Phong's lobe albedo), so albedo 0 is black whatever the type, and an
-// exporter may write a black object as a black diffuse surface.
+// Whether the material reflects any light (Material::reflects: not when its
+// type's albedo scales the whole reflection and is 0), so that an exporter
+// may write a black object as a black diffuse surface.
 bool reflects(const Material& material);
 
 // True when light reaches the eye after at most one bounce, off the only
@@ -63,10 +61,5 @@ int check_max_depth(const Scene& scene, int max_segments);
 // illumination at <depth>" when check_max_depth() chose direct lighting for
 // a deeper render; empty otherwise.
 std::string direct_lighting_clause(const Scene& scene, int max_segments);
-
-// An internal error: `type` is no enumerator of BsdfType (a value cast from
-// an integer). Every switch over BsdfType in export/ ends with it, after one
-// case per enumerator.
-[[noreturn]] void unknown_bsdf_type(BsdfType type);
 
 }  // namespace furnace::exporter

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "core/overloaded.h"
+
 namespace furnace {
 
 namespace {
@@ -13,8 +15,6 @@ Frame lobe_frame(const Vec3& wo_local) { return Frame::from_normal(scene_normali
 double phong_cos_alpha(const Vec3& wo_local, const Vec3& wi_local) {
   return dot(scene_normalize(reflect_about_normal(wo_local)), wi_local);
 }
-
-GgxBsdf ggx(const Material& m, Defect defect) { return GgxBsdf{m.albedo, m.ggx_alpha, m.shadowing, defect}; }
 
 }  // namespace
 
@@ -122,32 +122,13 @@ double GgxBsdf::pdf(const Vec3& wo_local, const Vec3& wi_local) const {
   return visible_normal_pdf(wo_local, h) / (4.0 * wo_dot_h);
 }
 
-double Bsdf::eval(const Vec3& wo_local, const Vec3& wi_local) const {
-  switch (material->type) {
-    case BsdfType::kLambertian: return LambertianBsdf{material->albedo}.eval(wo_local, wi_local);
-    case BsdfType::kMirror: return MirrorBsdf{material->albedo}.eval(wo_local, wi_local);
-    case BsdfType::kPhong: return PhongBsdf{material->albedo, material->phong_exponent, defect}.eval(wo_local, wi_local);
-    case BsdfType::kGgx: return ggx(*material, defect).eval(wo_local, wi_local);
-  }
-  return 0.0;
-}
-std::optional<BsdfSample> Bsdf::sample(const Vec3& wo_local, double u1, double u2) const {
-  switch (material->type) {
-    case BsdfType::kLambertian: return LambertianBsdf{material->albedo}.sample(wo_local, u1, u2);
-    case BsdfType::kMirror: return MirrorBsdf{material->albedo}.sample(wo_local, u1, u2);
-    case BsdfType::kPhong: return PhongBsdf{material->albedo, material->phong_exponent, defect}.sample(wo_local, u1, u2);
-    case BsdfType::kGgx: return ggx(*material, defect).sample(wo_local, u1, u2);
-  }
-  return std::nullopt;
-}
-double Bsdf::pdf(const Vec3& wo_local, const Vec3& wi_local) const {
-  switch (material->type) {
-    case BsdfType::kLambertian: return LambertianBsdf{material->albedo}.pdf(wo_local, wi_local);
-    case BsdfType::kMirror: return MirrorBsdf{material->albedo}.pdf(wo_local, wi_local);
-    case BsdfType::kPhong: return PhongBsdf{material->albedo, material->phong_exponent, defect}.pdf(wo_local, wi_local);
-    case BsdfType::kGgx: return ggx(*material, defect).pdf(wo_local, wi_local);
-  }
-  return 0.0;
+AnyBsdf make_bsdf(const Material& material, Defect defect) {
+  const double albedo = material.albedo;
+  return std::visit(overloaded{[&](const Lambertian&) -> AnyBsdf { return LambertianBsdf{albedo}; },
+                               [&](const Mirror&) -> AnyBsdf { return MirrorBsdf{albedo}; },
+                               [&](const Phong& p) -> AnyBsdf { return PhongBsdf{albedo, p.exponent, defect}; },
+                               [&](const Ggx& g) -> AnyBsdf { return GgxBsdf{albedo, g.alpha, g.shadowing, defect}; }},
+                    material.bsdf);
 }
 
 }  // namespace furnace

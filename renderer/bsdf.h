@@ -11,6 +11,7 @@
 #pragma once
 
 #include <optional>
+#include <variant>
 
 #include "core/scene.h"
 #include "core/strategy.h"
@@ -98,16 +99,33 @@ struct GgxBsdf {
   Vec3 sample_visible_normal(const Vec3& wo_local, double u1, double u2) const;
 };
 
-// Dispatch over the scene's material types.
-struct Bsdf {
-  const Material* material = nullptr;
-  Defect defect = Defect::kNone;  // negative controls only (PhongBsdf, GgxBsdf)
+// A scene material's BSDF: one of the above, made by the renderer's one
+// visit over the material types (make_bsdf), then dispatched by std::visit.
+using AnyBsdf = std::variant<LambertianBsdf, MirrorBsdf, PhongBsdf, GgxBsdf>;
+// `defect`: a negative control that lives in the BSDF (PhongBsdf, GgxBsdf).
+AnyBsdf make_bsdf(const Material& material, Defect defect = Defect::kNone);
 
-  bool is_delta() const { return material->type == BsdfType::kMirror; }
-  bool is_black() const { return !(material->albedo > 0); }
-  double eval(const Vec3& wo_local, const Vec3& wi_local) const;
-  std::optional<BsdfSample> sample(const Vec3& wo_local, double u1, double u2) const;
-  double pdf(const Vec3& wo_local, const Vec3& wi_local) const;
+class Bsdf {
+ public:
+  Bsdf() = default;
+  explicit Bsdf(const Material& material, Defect defect = Defect::kNone)
+      : bsdf_(make_bsdf(material, defect)), black_(!(material.albedo > 0)) {}
+
+  bool is_delta() const { return std::holds_alternative<MirrorBsdf>(bsdf_); }
+  bool is_black() const { return black_; }
+  double eval(const Vec3& wo_local, const Vec3& wi_local) const {
+    return std::visit([&](const auto& b) { return b.eval(wo_local, wi_local); }, bsdf_);
+  }
+  std::optional<BsdfSample> sample(const Vec3& wo_local, double u1, double u2) const {
+    return std::visit([&](const auto& b) { return b.sample(wo_local, u1, u2); }, bsdf_);
+  }
+  double pdf(const Vec3& wo_local, const Vec3& wi_local) const {
+    return std::visit([&](const auto& b) { return b.pdf(wo_local, wi_local); }, bsdf_);
+  }
+
+ private:
+  AnyBsdf bsdf_;
+  bool black_ = true;
 };
 
 inline Vec3 reflect_about_normal(const Vec3& w_local) { return {-w_local.x, -w_local.y, w_local.z}; }

@@ -43,7 +43,7 @@ struct ShadingContext {
     c.frame = Frame::from_normal(dot(hit.normal, wo_world) >= 0 ? hit.normal : -hit.normal);
     c.wo_world = wo_world;
     c.wo_local = c.frame.local_from_world(wo_world);
-    c.bsdf = Bsdf{&material, defect};
+    c.bsdf = Bsdf(material, defect);
     return c;
   }
 };

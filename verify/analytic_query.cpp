@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analytic/error_ledger.h"
+#include "analytic/glossy.h"
 #include "analytic/moments.h"
 #include "analytic/receiver.h"
 #include "analytic/reference.h"
@@ -49,22 +50,17 @@ View view_of(const Scene& scene, const AnalyticQuery& q, const std::string& rece
   return view;
 }
 
-// The BSDF's name and parameters, as the JSON and the text show them.
+// The BSDF's name and parameters, as the JSON and the text show them: the
+// material the receiver says it models, each field as the scene file names it.
 nlohmann::ordered_json bsdf_json(const Material& m) {
   nlohmann::ordered_json j;
-  j["type"] = bsdf_type_name(m.type);
+  j["type"] = bsdf_type_name(m.type());
   j["albedo"] = m.albedo;
-  switch (m.type) {
-    case BsdfType::kLambertian:
-    case BsdfType::kMirror:
-      break;
-    case BsdfType::kPhong:
-      j["exponent"] = m.phong_exponent;
-      break;
-    case BsdfType::kGgx:
-      j["alpha"] = m.ggx_alpha;
-      j["shadowing"] = microfacet_shadowing_name(m.shadowing);
-      break;
+  for (const MaterialField& f : std::visit([](const auto& p) { return p.fields(); }, m.bsdf)) {
+    if (f.word)
+      j[f.name] = f.word;
+    else
+      j[f.name] = f.number;
   }
   return j;
 }
@@ -90,7 +86,8 @@ std::string answer_glossy_query(const Scene& original, const AnalyticQuery& q, s
   if (q.albedo) material.albedo = *q.albedo;
   const std::string& name = scene.objects[receiver].name;
   const View view = view_of(scene, q, name);
-  const nlohmann::ordered_json bsdf = bsdf_json(material);
+  const nlohmann::ordered_json bsdf =
+      bsdf_json(analytic::glossy_receiver(scene, q.normal, view.direction, receiver)->material());
   double radiance = 0, radiance_bound = 0;
   {
     analytic::ErrorLedger ledger;
@@ -159,8 +156,8 @@ std::string answer_analytic_query(const Scene& scene, const AnalyticQuery& q, bo
   const std::optional<size_t> receiver = receiver_at(scene, q.point, q.normal);
   if (receiver) {
     const Object& object = scene.objects[*receiver];
-    if (analytic::is_glossy(object.material.type)) return answer_glossy_query(scene, q, *receiver, json);
-    if (object.material.type == BsdfType::kMirror && (q.albedo ? *q.albedo : object.material.albedo) > 0)
+    if (object.material.info().glossy) return answer_glossy_query(scene, q, *receiver, json);
+    if (object.material.as<Mirror>() && (q.albedo ? *q.albedo : object.material.albedo) > 0)
       throw Error(fmt::format("scene file '{}': the receiver '{}' at the point is a mirror, a delta lobe with no "
                               "reference at a point (its radiance is the radiance along the mirrored ray).",
                               scene.source, object.name));

@@ -181,7 +181,7 @@ TEST_P(ExactPathBruteForce, MatchesRayCastAreaIntegral) {
   Scene scene;
   scene.name = "brute";
   scene.source = "brute_force_test";
-  scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, {BsdfType::kLambertian, 0.5, 0}, 0});
+  scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, {0.5, Lambertian{}}, 0});
   scene.objects.push_back({"light", Disk{{0, 0, 2}, {0, 0, -1}, 0.75}, {}, 4.0});
   scene.objects.push_back({"wedge", Triangle{{-0.5, -0.2, 1.0}, {0.3, -0.35, 1.2}, {0.1, 0.4, 0.9}}, {}, 0});
   scene.objects.push_back({"plate", Rectangle{{0.05, 0.0, 1.4}, {0.5, 0.1, 0}, {-0.1, 0.4, 0}}, {}, 0});
@@ -209,7 +209,7 @@ TEST_P(ExactPathBruteForce, LightAreaSecondMomentMatchesRayCastAreaIntegral) {
     Scene scene;
     scene.name = "brute";
     scene.source = "brute_force_test";
-    scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, {BsdfType::kLambertian, 0.5, 0}, 0});
+    scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, {0.5, Lambertian{}}, 0});
     scene.objects.push_back({"light", light, {}, 4.0});
     scene.objects.push_back({"wedge", Triangle{{-0.5, -0.2, 1.0}, {0.3, -0.35, 1.2}, {0.1, 0.4, 0.9}}, {}, 0});
     scene.objects.push_back({"plate", Rectangle{{0.05, 0.0, 1.4}, {0.5, 0.1, 0}, {-0.1, 0.4, 0}}, {}, 0});
@@ -239,7 +239,7 @@ TEST(ExactPathBruteForceWall, WallOnTheFloorMatchesRayCastAreaIntegral) {
   Scene scene;
   scene.name = "wall";
   scene.source = "brute_force_test";
-  scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, {BsdfType::kLambertian, 0.5, 0}, 0});
+  scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, {0.5, Lambertian{}}, 0});
   scene.objects.push_back({"light", Disk{{0, 0, 2}, {0, 0, -1}, 0.75}, {}, 4.0});
   const double unblocked = irradiance(scene, {0.1, 0, 0}, {0, 0, 1}, size_t(0));
   scene.objects.push_back({"wall", Rectangle{{0.3, -1, 0}, {0, 2, 0}, {0.1, 0, 1.5}}, {}, 0});

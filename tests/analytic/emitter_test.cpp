@@ -23,9 +23,9 @@ Scene scene_with(const Shape& other) {
   Scene scene;
   scene.name = "emitter_test";
   scene.source = "emitter_test";
-  scene.objects.push_back({"floor", Rectangle{{-1, -1.5, 0}, {2, 0, 0}, {0, 3, 0}}, {BsdfType::kLambertian, 0.5, 0}, 0});
+  scene.objects.push_back({"floor", Rectangle{{-1, -1.5, 0}, {2, 0, 0}, {0, 3, 0}}, {0.5, Lambertian{}}, 0});
   scene.objects.push_back({"light", Rectangle{{0, 0.15, 0.5}, {0, 0.7, 0}, {0, 0, 0.7}}, {}, 4.0});
-  scene.objects.push_back({"other", other, {BsdfType::kLambertian, 0.5, 0}, 0});
+  scene.objects.push_back({"other", other, {0.5, Lambertian{}}, 0});
   return scene;
 }
 

@@ -108,7 +108,7 @@ Scene light_scene(const Shape& light_shape, double le) {
   Scene scene;
   scene.name = "exact";
   scene.source = "exact_region_test";
-  scene.objects.push_back({"floor", Rectangle{{-5, -5, 0}, {10, 0, 0}, {0, 10, 0}}, {BsdfType::kLambertian, 0.5, 0}, 0});
+  scene.objects.push_back({"floor", Rectangle{{-5, -5, 0}, {10, 0, 0}, {0, 10, 0}}, {0.5, Lambertian{}}, 0});
   scene.objects.push_back({"light", light_shape, {}, le});
   return scene;
 }
@@ -189,7 +189,7 @@ TEST(ExactPath, ClosedBoxWallsTileTheHemisphere) {
   scene.source = "exact_region_test";
   const double le = 1.0;
   auto wall = [&](const std::string& name, Vec3 corner, Vec3 u, Vec3 v) {
-    scene.objects.push_back({name, Rectangle{corner, u, v}, {BsdfType::kLambertian, 0.9, 0}, le});
+    scene.objects.push_back({name, Rectangle{corner, u, v}, {0.9, Lambertian{}}, le});
   };
   wall("floor", {-1, -1, -1}, {2, 0, 0}, {0, 2, 0});
   wall("ceiling", {-1, -1, 1}, {0, 2, 0}, {2, 0, 0});

@@ -31,7 +31,7 @@ Scene top_down(int resolution, double size) {
 TEST(PixelFootprint, ConstantSkyOnFloorIsExact) {
   Scene scene = top_down(4, 4);
   scene.environment.radiance = 1.5;
-  scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, {BsdfType::kLambertian, 0.6, 0}, 0});
+  scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, {0.6, Lambertian{}}, 0});
   EXPECT_NEAR(pixel_footprint_radiance(scene, 1, 2), 0.6 * 1.5, 1e-15);
 }
 
@@ -72,7 +72,7 @@ TEST(PixelFootprint, SilhouetteAverageIsCoveredFraction) {
 // tanh–sinh over the pixel of (ρ/π)·L·E_disk(|x|).
 TEST(PixelFootprint, SmoothFieldMatchesIndependentQuadrature) {
   Scene scene = top_down(8, 4);  // 0.5 × 0.5 pixels
-  scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, {BsdfType::kLambertian, 0.5, 0}, 0});
+  scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, {0.5, Lambertian{}}, 0});
   scene.objects.push_back({"light", Disk{{0, 0, 1}, {0, 0, -1}, 0.6}, {}, 4.0});
   boost::math::quadrature::tanh_sinh<double> q;
   for (int px : {1, 4}) {

@@ -83,6 +83,7 @@
 
 #include "analytic/error_ledger.h"
 #include "analytic/ggx.h"
+#include "analytic/glossy.h"
 #include "analytic/moments.h"
 #include "core/strategy.h"
 
@@ -657,15 +658,13 @@ Scene scene_of(const Case& k) {
   Scene scene;
   scene.name = "ggx_precision";
   scene.source = "ggx_precision_test";
-  Material m{BsdfType::kGgx, kAlbedo, 0};
-  m.ggx_alpha = k.alpha;
-  m.shadowing = k.shadowing;
+  const Material m{kAlbedo, Ggx{k.alpha, k.shadowing}};
   scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, m, 0});
   if (k.environment) scene.environment.radiance = kSkyRadiance;
   else if (k.planar) scene.objects.push_back({"light", *k.planar, {}, kPlanarRadiance});
   else scene.objects.push_back({"light", Sphere{k.center, k.radius}, {}, kSphereRadiance});
   // disk_occluder's occluder: black (albedo 0), parallel to the light.
-  if (k.occluder) scene.objects.push_back({"occluder", *k.occluder, Material{BsdfType::kLambertian, 0.0, 0}, 0});
+  if (k.occluder) scene.objects.push_back({"occluder", *k.occluder, Material{0.0, Lambertian{}}, 0});
   return scene;
 }
 
@@ -696,7 +695,7 @@ void check_case(const Case& k, const Values& reference, Worst& worst) {
     double got = 0, bound = 0, reported = 0;
     {
       const ErrorLedger ledger;
-      got = s == nullptr ? ggx_reflected_radiance(scene, p, n, wo, 0) : ggx_second_moment(*s, scene, p, n, wo, 0);
+      got = s == nullptr ? glossy_reflected_radiance(scene, p, n, wo, 0) : glossy_second_moment(*s, scene, p, n, wo, 0);
       bound = ledger.bound(got);
       reported = ledger.relative_quadrature_error();
     }
@@ -862,7 +861,7 @@ TEST(GgxPrecision, DefectiveReferencesAreMissed) {
     double got = 0, bound = 0;
     {
       const ErrorLedger ledger;
-      got = ggx_second_moment(c.strategy, scene, {0, 0, 0}, {0, 0, 1}, view_of(c.k), 0);
+      got = glossy_second_moment(c.strategy, scene, {0, 0, 0}, {0, 0, 1}, view_of(c.k), 0);
       bound = ledger.bound(got);
     }
     const double miss = relative_error(got, expected(wrong, &c.strategy));

@@ -12,7 +12,7 @@
 //    the closed forms by far;
 //  - the scene-level dispatch (reference.cpp, moments.cpp): a GGX floor under
 //    the sky is albedo × sky × directional albedo, and its pixel moments are
-//    ggx_second_moment's; refusals of what ggx.h does not solve;
+//    glossy_second_moment's; refusals of what ggx.h does not solve;
 //  - the cost of one sky reference and one sphere-light second moment at
 //    α = 0.05 and 1e-3 (printed).
 #include "analytic/ggx.h"
@@ -25,6 +25,7 @@
 
 #include <gtest/gtest.h>
 
+#include "analytic/glossy.h"
 #include "analytic/moments.h"
 #include "analytic/receiver_integrals.h"
 #include "analytic/reference.h"
@@ -79,7 +80,7 @@ TEST(GgxClosedForms, AlphaOneDirectionalAlbedo) {
   for (MicrofacetShadowing form : {kSeparable, kHeightCorrelated})
     for (double mu_o : {1.0, 0.5, 0.2, 0.05}) {
       const GgxReceiver rx(kNormal, view_of(mu_o), 0.8, 1, form);
-      const double got = ggx_directional_albedo(rx), want = alpha_one_albedo(form, 0.8, mu_o);
+      const double got = directional_albedo(rx), want = alpha_one_albedo(form, 0.8, mu_o);
       const double rel = std::fabs(got / want - 1);
       worst = std::max(worst, rel);
       EXPECT_LT(rel, kPrecisionTarget) << microfacet_shadowing_name(form) << ", mu_o " << mu_o;
@@ -92,9 +93,9 @@ TEST(GgxClosedForms, OtherSmithFormAndDWithoutInvPiAreCaught) {
   // against the separable closed form, and a receiver whose D lacks 1/π (π
   // times the albedo: the same numbers) against the true closed form.
   const GgxReceiver hc(kNormal, view_of(0.5), 0.8, 1, kHeightCorrelated);
-  const double other = std::fabs(ggx_directional_albedo(hc) / alpha_one_albedo(kSeparable, 0.8, 0.5) - 1);
+  const double other = std::fabs(directional_albedo(hc) / alpha_one_albedo(kSeparable, 0.8, 0.5) - 1);
   const GgxReceiver no_inv_pi(kNormal, view_of(0.5), 0.8 * kPi, 1, kHeightCorrelated);
-  const double pi = std::fabs(ggx_directional_albedo(no_inv_pi) / alpha_one_albedo(kHeightCorrelated, 0.8, 0.5) - 1);
+  const double pi = std::fabs(directional_albedo(no_inv_pi) / alpha_one_albedo(kHeightCorrelated, 0.8, 0.5) - 1);
   std::printf("[ ggx ] controls: other Smith form misses by %.3g, D without 1/pi by %.3g\n", other, pi);
   EXPECT_GT(other, kControlMiss);
   EXPECT_GT(pi, kControlMiss);
@@ -117,6 +118,7 @@ class GgxDensity final : public ReceiverModel<GgxDensity> {
   bool vanishes_below_mirror_plane() const override { return false; }
   std::vector<double> parameters() const override { return {-1}; }
   std::string name() const override { return "the GGX density"; }
+  Material material() const override { return ggx_.material(); }
 
  private:
   GgxReceiver ggx_;
@@ -177,9 +179,7 @@ Scene ggx_scene(double alpha, MicrofacetShadowing form, bool environment) {
   Scene scene;
   scene.name = "ggx_test";
   scene.source = "ggx_test";
-  Material m{BsdfType::kGgx, 0.8, 0};
-  m.ggx_alpha = alpha;
-  m.shadowing = form;
+  const Material m{0.8, Ggx{alpha, form}};
   scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, m, 0});
   if (environment) scene.environment.radiance = 1.5;
   else scene.objects.push_back({"light", Sphere{{1.0, 0.05, 0.9}, 0.3}, {}, 4.0});
@@ -197,13 +197,13 @@ TEST(GgxReference, PixelUnderTheSkyIsAlbedoTimesSkyTimesDirectionalAlbedo) {
     const Scene scene = ggx_scene(0.2, form, true);
     const Camera::Ray ray = scene.camera.pixel_center_ray(4, 5);
     const GgxReceiver rx(kNormal, -ray.direction, 0.8, 0.2, form);
-    // ggx_directional_albedo carries the albedo (f does).
-    EXPECT_NEAR(pixel_center_radiance(scene, 4, 5) / (1.5 * ggx_directional_albedo(rx)) - 1, 0, 1e-14);
+    // directional_albedo carries the albedo (f does).
+    EXPECT_NEAR(pixel_center_radiance(scene, 4, 5) / (1.5 * directional_albedo(rx)) - 1, 0, 1e-14);
     const std::optional<Hit> hit = intersect(scene, ray.origin, ray.direction);
     ASSERT_TRUE(hit);
     for (Strategy s : direct_strategies())
       EXPECT_EQ(pixel_center_second_moment(s, scene, 4, 5),
-                ggx_second_moment(s, scene, hit->point, kNormal, -ray.direction, 0))
+                glossy_second_moment(s, scene, hit->point, kNormal, -ray.direction, 0))
           << strategy_name(s);
     const std::array<double, 2> mis = pixel_center_multi_sample_mis_second_moments(scene, 4, 5);
     EXPECT_EQ(mis[0], pixel_center_second_moment(Strategy::kMisBalance, scene, 4, 5));
@@ -215,27 +215,27 @@ TEST(GgxMoments, ExceedTheSquaredMean) {
   // Var Y > 0 for every sampled estimator (Jensen).
   const Scene scene = ggx_scene(0.1, kHeightCorrelated, false);
   const Vec3 wo = view_of(0.6);
-  const double mean = ggx_reflected_radiance(scene, {0, 0, 0}, kNormal, wo, 0);
+  const double mean = glossy_reflected_radiance(scene, {0, 0, 0}, kNormal, wo, 0);
   EXPECT_GT(mean, 0);
   for (Strategy s : direct_strategies())
-    EXPECT_GT(ggx_second_moment(s, scene, {0, 0, 0}, kNormal, wo, 0), mean * mean) << strategy_name(s);
+    EXPECT_GT(glossy_second_moment(s, scene, {0, 0, 0}, kNormal, wo, 0), mean * mean) << strategy_name(s);
 }
 
 TEST(GgxReference, RefusesWhatItDoesNotSolve) {
   const Vec3 wo = view_of(0.6);
   Scene point = ggx_scene(0.1, kSeparable, false);
   point.point_lights.push_back({"p", {0, 0, 1}, 1.0});
-  EXPECT_THROW(ggx_reflected_radiance(point, {0, 0, 0}, kNormal, wo, 0), Error);
+  EXPECT_THROW(glossy_reflected_radiance(point, {0, 0, 0}, kNormal, wo, 0), Error);
   Scene disk = ggx_scene(0.1, kSeparable, false);
   disk.objects[1].shape = Disk{{0, 0, 1}, {0, 0, -1}, 0.3};  // a disk light is solved; behind a sphere it is not
   disk.objects.push_back({"blocker", Sphere{{0, 0, 0.5}, 0.1}, {}, 0});
-  EXPECT_THROW(ggx_reflected_radiance(disk, {0, 0, 0}, kNormal, wo, 0), Error);
+  EXPECT_THROW(glossy_reflected_radiance(disk, {0, 0, 0}, kNormal, wo, 0), Error);
   Scene blocked = ggx_scene(0.1, kSeparable, true);
   blocked.objects.push_back({"blocker", Sphere{{0, 0, 2}, 0.5}, {}, 0});
-  EXPECT_THROW(ggx_reflected_radiance(blocked, {0, 0, 0}, kNormal, wo, 0), Error);
-  EXPECT_THROW(ggx_second_moment(Strategy::kPathMis, ggx_scene(0.1, kSeparable, false), {0, 0, 0}, kNormal, wo, 0),
+  EXPECT_THROW(glossy_reflected_radiance(blocked, {0, 0, 0}, kNormal, wo, 0), Error);
+  EXPECT_THROW(glossy_second_moment(Strategy::kPathMis, ggx_scene(0.1, kSeparable, false), {0, 0, 0}, kNormal, wo, 0),
                Error);
-  EXPECT_THROW(ggx_reflected_radiance(ggx_scene(0.1, kSeparable, true), {0, 0, 0}, kNormal, {0.6, 0, -0.8}, 0), Error);
+  EXPECT_THROW(glossy_reflected_radiance(ggx_scene(0.1, kSeparable, true), {0, 0, 0}, kNormal, {0.6, 0, -0.8}, 0), Error);
 }
 
 TEST(GgxReference, Cost) {

@@ -31,6 +31,7 @@ class LambertianReceiver final : public ReceiverModel<LambertianReceiver> {
     return {double(BsdfType::kLambertian), albedo_, pdf_factor_, extra_cosine_ ? 1.0 : 0.0};
   }
   std::string name() const override { return "a test Lambertian receiver"; }
+  Material material() const override { return Material{albedo_, Lambertian{}}; }
 
  private:
   double albedo_, pdf_factor_;

@@ -127,7 +127,7 @@ Scene scene_with(Shape light) {
   Scene scene;
   scene.name = "moment_precision";
   scene.source = "moment_precision_test";
-  scene.objects.push_back({"floor", Rectangle{{-5, -5, -1}, {10, 0, 0}, {0, 10, 0}}, {BsdfType::kLambertian, 0.5, 0}, 0});
+  scene.objects.push_back({"floor", Rectangle{{-5, -5, -1}, {10, 0, 0}, {0, 10, 0}}, {0.5, Lambertian{}}, 0});
   scene.objects.push_back({"light", light, {}, 1.0});
   return scene;
 }

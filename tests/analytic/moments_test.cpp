@@ -37,7 +37,7 @@ Scene build(const SceneSpec& s) {
   Scene scene;
   scene.name = s.name;
   scene.source = "moments_test";
-  scene.objects.push_back({"floor", Rectangle{{-5, -5, 0}, {10, 0, 0}, {0, 10, 0}}, {BsdfType::kLambertian, 0.5, 0}, 0});
+  scene.objects.push_back({"floor", Rectangle{{-5, -5, 0}, {10, 0, 0}, {0, 10, 0}}, {0.5, Lambertian{}}, 0});
   scene.objects.push_back({"light", Disk{{0, 0, s.h}, {0, 0, -1}, s.R}, {}, s.le});
   for (const OccluderSpec& o : s.occluders)
     scene.objects.push_back({"occluder", Disk{{o.x, o.y, o.z}, {0, 0, 1}, o.radius}, {}, 0});
@@ -149,7 +149,7 @@ INSTANTIATE_TEST_SUITE_P(
 
 TEST(SecondMomentLimits, CosineSamplingOfConstantSkyHasZeroVariance) {
   Scene scene;
-  scene.objects.push_back({"floor", Rectangle{{-1, -1, 0}, {2, 0, 0}, {0, 2, 0}}, {BsdfType::kLambertian, 0.5, 0}, 0});
+  scene.objects.push_back({"floor", Rectangle{{-1, -1, 0}, {2, 0, 0}, {0, 2, 0}}, {0.5, Lambertian{}}, 0});
   scene.environment.radiance = 1.7;
   const double e = irradiance(scene, {0, 0, 0}, {0, 0, 1}, size_t(0));
   EXPECT_EQ(second_moment(Strategy::kCosineHemisphere, scene, {0, 0, 0}, {0, 0, 1}, size_t(0)), e * e);

@@ -24,6 +24,7 @@
 #include <boost/multiprecision/cpp_bin_float.hpp>
 #include <gtest/gtest.h>
 
+#include "analytic/glossy.h"
 #include "analytic/moments.h"
 #include "analytic/reference.h"
 #include "analytic/sphere.h"
@@ -70,7 +71,7 @@ Real albedo_50_digits(double theta_r, double albedo, double exponent) {
 
 TEST(PhongAlbedo, NormalIncidenceIsTheAlbedo) {
   for (double e : {0.0, 1.0, 10.0, 100.0, 1000.0}) {
-    const double a = phong_directional_albedo(receiver_viewed_at(0, 0.8, e));
+    const double a = directional_albedo(receiver_viewed_at(0, 0.8, e));
     EXPECT_NEAR(a / 0.8 - 1, 0, kReferenceTolerance) << "e = " << e;
   }
 }
@@ -80,7 +81,7 @@ TEST(PhongAlbedo, MatchesExactAzimuthIntegralUpToGrazing) {
   for (double e : {1.0, 10.0, 100.0, 1000.0})
     for (double deg : {0.0, 45.0, 70.0, 85.0, 89.0, 89.9}) {
       const double theta = deg * kPi / 180;
-      const double got = phong_directional_albedo(receiver_viewed_at(theta, 0.8, e));
+      const double got = directional_albedo(receiver_viewed_at(theta, 0.8, e));
       const double want = static_cast<double>(albedo_50_digits(theta, 0.8, e));
       const double rel = std::fabs(got / want - 1);
       worst = std::max(worst, rel);
@@ -94,7 +95,7 @@ TEST(PhongAlbedo, DecreasesTowardGrazing) {
   for (double e : {10.0, 100.0}) {
     double previous = 1;
     for (double deg : {0.0, 30.0, 60.0, 80.0, 89.0}) {
-      const double a = phong_directional_albedo(receiver_viewed_at(deg * kPi / 180, 1, e));
+      const double a = directional_albedo(receiver_viewed_at(deg * kPi / 180, 1, e));
       EXPECT_LE(a, previous * (1 + 1e-14)) << "e = " << e << ", " << deg << " deg";
       previous = a;
     }
@@ -115,7 +116,7 @@ TEST(PhongSphere, ExponentZeroSeenAlongTheNormalIsLambertian) {
       const double R = 1, D = ratio * R, beta = beta_deg * kPi / 180;
       if (D * std::cos(beta) <= -R) continue;  // wholly below the horizon: both 0
       const Vec3 c = sphere_center(D, beta, 0.4);
-      const double got = phong_sphere_reflectance(receiver_viewed_at(0, 0.7, 0), c, R);
+      const double got = sphere_reflectance(receiver_viewed_at(0, 0.7, 0), c, R);
       const double want = 0.7 * kInvPi * sphere_irradiance(c, R, {0, 0, 1});
       const double rel = std::fabs(got / want - 1);
       worst = std::max(worst, rel);
@@ -139,7 +140,7 @@ TEST(PhongSphere, ExponentOneMatchesTheConeMomentClosedForm) {
         const double a = 2 * kPi * (1 - cg * cg * cg) / 3, b = kPi * (2.0 / 3 - cg + cg * cg * cg / 3);
         const double rMn = a * dot(r, axis) * dot(n, axis) + b * (dot(r, n) - dot(r, axis) * dot(n, axis));
         const double want = 0.9 * 3 / (2 * kPi) * rMn;
-        const double got = phong_sphere_reflectance(rx, c, R);
+        const double got = sphere_reflectance(rx, c, R);
         const double rel = std::fabs(got / want - 1);
         worst = std::max(worst, rel);
         EXPECT_LT(rel, kReferenceTolerance) << "view " << view_deg << ", D/R " << ratio << ", beta " << beta_deg;
@@ -212,7 +213,7 @@ TEST(PhongSphere, HighExponentsMatchTheLobeFrameIntegral) {
           if (D * std::cos(beta) <= R * 1.0001) continue;
           const PhongReceiver rx = receiver_viewed_at(view, 0.8, e);
           const Vec3 c = sphere_center(D, beta, 0.05);  // near r = (sin θ, 0, cos θ)
-          const double got = phong_sphere_reflectance(rx, c, R);
+          const double got = sphere_reflectance(rx, c, R);
           const double want = sphere_lobe_frame(rx, c, R);
           if (want < 1e-30) continue;  // nothing of the lobe reaches the sphere (e = 1000 far off the mirror ray)
           const double rel = std::fabs(got / want - 1);
@@ -242,7 +243,7 @@ Scene glossy_scene(const GlossyCase& g) {
   Scene scene;
   scene.name = "glossy_test";
   scene.source = "phong_test";
-  scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, {BsdfType::kPhong, 0.8, g.exponent}, 0});
+  scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, {0.8, Phong{g.exponent}}, 0});
   if (g.environment) scene.environment.radiance = 1.5;
   else scene.objects.push_back({"light", Sphere{g.center, 0.5}, {}, 4.0});
   return scene;
@@ -349,7 +350,7 @@ TEST(PhongMoments, EveryEstimatorMatchesTheLobeFrameQuadrature) {
     const Scene scene = glossy_scene(g);
     const PhongReceiver rx = receiver_viewed_at(g.view_deg * kPi / 180, 0.8, g.exponent);
     for (Strategy s : direct_strategies()) {
-      const double got = phong_second_moment(s, scene, {0, 0, 0}, rx.n, rx.wo, 0);
+      const double got = glossy_second_moment(s, scene, {0, 0, 0}, rx.n, rx.wo, 0);
       const double want = independent_moment(s, g);
       const double rel = std::fabs(got / want - 1);
       worst = std::max(worst, rel);
@@ -365,9 +366,9 @@ TEST(PhongMoments, ExceedTheSquaredMean) {
   const GlossyCase g{45, 10, false, {0.6, 0.05, 0.7}};
   const Scene scene = glossy_scene(g);
   const PhongReceiver rx = receiver_viewed_at(g.view_deg * kPi / 180, 0.8, g.exponent);
-  const double mean = phong_reflected_radiance(scene, {0, 0, 0}, rx.n, rx.wo, 0);
+  const double mean = glossy_reflected_radiance(scene, {0, 0, 0}, rx.n, rx.wo, 0);
   for (Strategy s : direct_strategies())
-    EXPECT_GT(phong_second_moment(s, scene, {0, 0, 0}, rx.n, rx.wo, 0), mean * mean) << strategy_name(s);
+    EXPECT_GT(glossy_second_moment(s, scene, {0, 0, 0}, rx.n, rx.wo, 0), mean * mean) << strategy_name(s);
 }
 
 TEST(PhongReference, RefusesWhatItDoesNotSolve) {
@@ -375,15 +376,15 @@ TEST(PhongReference, RefusesWhatItDoesNotSolve) {
   const PhongReceiver rx = receiver_viewed_at(g.view_deg * kPi / 180, 0.8, g.exponent);
   Scene point = glossy_scene(g);
   point.point_lights.push_back({"p", {0, 0, 1}, 1.0});
-  EXPECT_THROW(phong_reflected_radiance(point, {0, 0, 0}, rx.n, rx.wo, 0), Error);
+  EXPECT_THROW(glossy_reflected_radiance(point, {0, 0, 0}, rx.n, rx.wo, 0), Error);
   Scene disk = glossy_scene(g);  // a disk light behind a sphere (planar lights are solved past parallel disks only)
   disk.objects[1].shape = Disk{{0, 0, 1}, {0, 0, -1}, 0.3};
   disk.objects.push_back({"sphere blocker", Sphere{{0, 0, 0.5}, 0.1}, {}, 0});
-  EXPECT_THROW(phong_reflected_radiance(disk, {0, 0, 0}, rx.n, rx.wo, 0), Error);
+  EXPECT_THROW(glossy_reflected_radiance(disk, {0, 0, 0}, rx.n, rx.wo, 0), Error);
   Scene blocked = glossy_scene({70, 10, true, {}});
   blocked.objects.push_back({"blocker", Sphere{{0, 0, 2}, 0.5}, {}, 0});
-  EXPECT_THROW(phong_reflected_radiance(blocked, {0, 0, 0}, rx.n, rx.wo, 0), Error);
-  EXPECT_THROW(phong_second_moment(Strategy::kPathMis, glossy_scene(g), {0, 0, 0}, rx.n, rx.wo, 0), Error);
+  EXPECT_THROW(glossy_reflected_radiance(blocked, {0, 0, 0}, rx.n, rx.wo, 0), Error);
+  EXPECT_THROW(glossy_second_moment(Strategy::kPathMis, glossy_scene(g), {0, 0, 0}, rx.n, rx.wo, 0), Error);
 }
 
 TEST(PhongReference, SceneImageUsesTheLobe) {
@@ -392,7 +393,7 @@ TEST(PhongReference, SceneImageUsesTheLobe) {
   const Scene scene = load_scene(std::string(FURNACE_SCENE_DIR) + "/glossy_environment.json");
   const Camera::Ray ray = scene.camera.pixel_center_ray(12, 8);  // the e = 100 half
   const PhongReceiver rx{{0, 0, 1}, -ray.direction, 0.8, 100};
-  EXPECT_NEAR(pixel_center_radiance(scene, 12, 8) / (1.5 * phong_directional_albedo(rx)) - 1, 0, 1e-14);
+  EXPECT_NEAR(pixel_center_radiance(scene, 12, 8) / (1.5 * directional_albedo(rx)) - 1, 0, 1e-14);
 }
 
 }  // namespace

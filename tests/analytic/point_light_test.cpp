@@ -26,8 +26,8 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 Scene shadow_scene() {
   Scene s;
   s.name = "shadow";
-  s.objects.push_back({"floor", Rectangle{{-2, -2, 0}, {4, 0, 0}, {0, 4, 0}}, {BsdfType::kLambertian, 0.5, 0}, 0, false});
-  s.objects.push_back({"blocker", Disk{{0, 0, 1}, {0, 0, 1}, 0.25}, {BsdfType::kLambertian, 0, 0}, 0, false});
+  s.objects.push_back({"floor", Rectangle{{-2, -2, 0}, {4, 0, 0}, {0, 4, 0}}, {0.5, Lambertian{}}, 0, false});
+  s.objects.push_back({"blocker", Disk{{0, 0, 1}, {0, 0, 1}, 0.25}, {0, Lambertian{}}, 0, false});
   s.point_lights.push_back({"bulb", {0, 0, 2}, 3.0});
   return s;
 }

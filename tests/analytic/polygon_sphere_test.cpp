@@ -176,7 +176,7 @@ Scene floor_scene() {
   Scene scene;
   scene.name = "lights";
   scene.source = "polygon_sphere_test";
-  scene.objects.push_back({"floor", Rectangle{{-5, -5, 0}, {10, 0, 0}, {0, 10, 0}}, {BsdfType::kLambertian, 0.5, 0}, 0});
+  scene.objects.push_back({"floor", Rectangle{{-5, -5, 0}, {10, 0, 0}, {0, 10, 0}}, {0.5, Lambertian{}}, 0});
   return scene;
 }
 

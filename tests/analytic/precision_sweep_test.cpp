@@ -59,7 +59,7 @@ Scene scene_with(std::vector<Object> objects, double environment = 0) {
   Scene scene;
   scene.name = "precision";
   scene.source = "precision_sweep_test";
-  scene.objects.push_back({"floor", Rectangle{{-5, -5, -1}, {10, 0, 0}, {0, 10, 0}}, {BsdfType::kLambertian, 0.5, 0}, 0});
+  scene.objects.push_back({"floor", Rectangle{{-5, -5, -1}, {10, 0, 0}, {0, 10, 0}}, {0.5, Lambertian{}}, 0});
   for (Object& o : objects) scene.objects.push_back(std::move(o));
   scene.environment.radiance = environment;
   return scene;

@@ -79,7 +79,7 @@ Scene scene_of(const PlanarCase& c) {
   Scene scene;
   scene.name = c.name;
   scene.source = "receiver_planar_test";
-  scene.objects.push_back({"floor", Rectangle{{-9, -9, -20}, {18, 0, 0}, {0, 18, 0}}, {BsdfType::kLambertian, kAlbedo, 0}, 0});
+  scene.objects.push_back({"floor", Rectangle{{-9, -9, -20}, {18, 0, 0}, {0, 18, 0}}, {kAlbedo, Lambertian{}}, 0});
   for (const Object& o : c.lights) scene.objects.push_back(o);
   return scene;
 }
@@ -353,7 +353,7 @@ TEST(ReceiverPlanar, SceneFilesMatchTheLambertianReferencesWhereSolved) {
         const std::optional<Hit> hit = intersect(scene, ray.origin, ray.direction);
         if (!hit) continue;
         const Object& object = scene.objects[hit->object_index];
-        if (object.material.type != BsdfType::kLambertian || object.material.albedo == 0) continue;
+        if (!object.material.as<Lambertian>() || object.material.albedo == 0) continue;
         const Vec3 n = dot(ray.direction, hit->normal) < 0 ? hit->normal : -hit->normal;
         const LambertianReceiver receiver(n, -ray.direction, kAlbedo);
         std::vector<ReceiverLight> lights;

@@ -48,7 +48,7 @@ Scene lambertian_scene(const LightCase& c) {
   Scene scene;
   scene.name = c.name;
   scene.source = "receiver_test";
-  scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, {BsdfType::kLambertian, kAlbedo, 0}, 0});
+  scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, {kAlbedo, Lambertian{}}, 0});
   if (c.environment) scene.environment.radiance = 1.5;
   else scene.objects.push_back({"light", Sphere{c.center, 0.5}, {}, 4.0});
   return scene;
@@ -130,7 +130,7 @@ TEST(ReceiverModel, EnvironmentMemoKeysOnEveryBsdfParameter) {
   // lobes asked in turn at the same frame must each get their own value,
   // equal to the un-memoised machinery's.
   Scene scene = lambertian_scene(light_cases()[0]);
-  scene.objects[0].material = {BsdfType::kPhong, 0.8, 10};
+  scene.objects[0].material = {0.8, Phong{10}};
   const auto lights = receiver_lights(scene, kPoint, kNormal, 0, LightSelection::kUniform, "a Phong receiver");
   for (int round = 0; round < 2; ++round)
     for (double exponent : {10.0, 100.0}) {

@@ -35,7 +35,7 @@ Scene light_over_floor(double h, double R, double le) {
   Scene scene;
   scene.name = "test";
   scene.source = "reference_test";
-  scene.objects.push_back({"floor", Rectangle{{-2, -2, 0}, {4, 0, 0}, {0, 4, 0}}, {BsdfType::kLambertian, 0.5, 0}, 0});
+  scene.objects.push_back({"floor", Rectangle{{-2, -2, 0}, {4, 0, 0}, {0, 4, 0}}, {0.5, Lambertian{}}, 0});
   scene.objects.push_back({"light", Disk{{0, 0, h}, {0, 0, -1}, R}, {}, le});
   return scene;
 }
@@ -138,7 +138,7 @@ TEST(Irradiance, UnsupportedBlockersAreRefusedWithTheirName) {
 TEST(Irradiance, UnoccludedEnvironmentIsPiTimesRadiance) {
   Scene scene;
   scene.name = "env";
-  scene.objects.push_back({"floor", Rectangle{{-2, -2, 0}, {4, 0, 0}, {0, 4, 0}}, {BsdfType::kLambertian, 0.5, 0}, 0});
+  scene.objects.push_back({"floor", Rectangle{{-2, -2, 0}, {4, 0, 0}, {0, 4, 0}}, {0.5, Lambertian{}}, 0});
   scene.environment.radiance = 0.7;
   EXPECT_EQ(irradiance(scene, {0, 0, 0}, {0, 0, 1}, size_t(0)), kPi * 0.7);
 }

@@ -233,7 +233,7 @@ TEST(SphereOccluded, OccluderInsideTheConeSubtractsLambert) {
 Scene floor_and_bulb() {
   Scene scene;
   scene.name = "sphere_occluded_test";
-  scene.objects.push_back({"floor", Rectangle{{-5, -5, 0}, {10, 0, 0}, {0, 10, 0}}, {BsdfType::kLambertian, 0.5}, 0});
+  scene.objects.push_back({"floor", Rectangle{{-5, -5, 0}, {10, 0, 0}, {0, 10, 0}}, {0.5, Lambertian{}}, 0});
   scene.objects.push_back({"bulb", kLight, {}, 3.0});
   return scene;
 }

@@ -27,10 +27,9 @@ Scene enclosure(double albedo, bool closed = true, BsdfType type = BsdfType::kLa
   Object o;
   o.name = "shell";
   o.shape = Sphere{{0, 0, 0}, 1.0};
-  o.material.type = type;
-  o.material.albedo = albedo;
-  if (type == BsdfType::kGgx) o.material.ggx_alpha = 0.5;
-  if (type == BsdfType::kPhong) o.material.phong_exponent = 10;
+  o.material = Material{albedo, default_parameters(type)};
+  if (type == BsdfType::kGgx) o.material.bsdf = Ggx{0.5};
+  if (type == BsdfType::kPhong) o.material.bsdf = Phong{10};
   o.emitted_radiance = 1.5;
   o.two_sided = true;
   s.objects.push_back(o);
@@ -52,7 +51,7 @@ TEST(InfiniteAnswer, ClosedAlbedoOneEnclosureAtUnlimitedDepth) {
   Scene mirrored = enclosure(1);
   Object m = mirrored.objects[0];
   m.name = "mirror";
-  m.material.type = BsdfType::kMirror;
+  m.material.bsdf = Mirror{};
   m.emitted_radiance = 0;
   mirrored.objects.push_back(m);
   EXPECT_TRUE(infinite_answer_reason(mirrored, kUnlimitedDepth));

@@ -78,11 +78,12 @@ TEST(GgxMaterial, FieldsParse) {
     return parse_scene(json, "ggx.json").objects[0].material;
   };
   const Material defaulted = material(R"("alpha": 0.25)");
-  EXPECT_EQ(defaulted.type, BsdfType::kGgx);
-  EXPECT_EQ(defaulted.ggx_alpha, 0.25);
-  EXPECT_EQ(defaulted.shadowing, MicrofacetShadowing::kHeightCorrelated);
-  EXPECT_EQ(material(R"("alpha": 1, "shadowing": "separable")").shadowing, MicrofacetShadowing::kSeparable);
-  EXPECT_EQ(material(R"("alpha": 1e-3, "shadowing": "height_correlated")").shadowing,
+  const auto ggx = [](const Material& m) { return std::get<Ggx>(m.bsdf); };
+  EXPECT_EQ(defaulted.type(), BsdfType::kGgx);
+  EXPECT_EQ(ggx(defaulted).alpha, 0.25);
+  EXPECT_EQ(ggx(defaulted).shadowing, MicrofacetShadowing::kHeightCorrelated);
+  EXPECT_EQ(ggx(material(R"("alpha": 1, "shadowing": "separable")")).shadowing, MicrofacetShadowing::kSeparable);
+  EXPECT_EQ(ggx(material(R"("alpha": 1e-3, "shadowing": "height_correlated")")).shadowing,
             MicrofacetShadowing::kHeightCorrelated);
   for (const MicrofacetShadowingInfo& info : kMicrofacetShadowingTable)
     EXPECT_STREQ(microfacet_shadowing_name(info.shadowing), info.name);
@@ -92,7 +93,7 @@ TEST(BsdfTypeNames, EveryTypesWordParsesBackToIt) {
   for (const BsdfTypeInfo& info : kBsdfTypeTable) {
     EXPECT_STREQ(bsdf_type_name(info.type), expected_bsdf_word(info.type));
     const Scene s = parse_scene(with_floor_material(bsdf_type_name(info.type)), "material.json");
-    EXPECT_EQ(s.objects[0].material.type, info.type) << info.name;
+    EXPECT_EQ(s.objects[0].material.type(), info.type) << info.name;
   }
 }
 
@@ -112,6 +113,8 @@ TEST(BsdfTypeNames, AnUnknownWordIsRefusedListingTheTable) {
 
 TEST(BsdfTypeNamesDeathTest, AValueThatIsNoEnumeratorIsAnInternalError) {
   EXPECT_DEATH(bsdf_type_name(static_cast<BsdfType>(7)), "BsdfType value 7 is no enumerator of BsdfType");
+  // Nor does it make a material: no default alternative is chosen for it.
+  EXPECT_DEATH(default_parameters(static_cast<BsdfType>(7)), "BsdfType value 7 is no enumerator of BsdfType");
 }
 
 TEST(SceneLoader, PixelCenterRaysCoverTheImagePlane) {

@@ -305,7 +305,8 @@ class CyclesPeerGgxFinding : public CyclesPeer, public testing::Test {
       const double se = std::sqrt(var / kRenders);
       const Material& m = scene.objects[k].material;
       std::printf("finding: strip '%s' (alpha %g, %s): relative error %+.3g, t %.1f\n",
-                  scene.objects[k].name.c_str(), m.ggx_alpha, microfacet_shadowing_name(m.shadowing), mean - 1,
+                  scene.objects[k].name.c_str(), std::get<Ggx>(m.bsdf).alpha,
+                  microfacet_shadowing_name(std::get<Ggx>(m.bsdf).shadowing), mean - 1,
                   se > 0 ? (mean - 1) / se : 0.0);
     }
   }

@@ -23,10 +23,10 @@ struct MaterialCoverage {
   void count_refusal(const Scene& scene, const std::string& refusal) {
     for (size_t i = 0; i < scene.objects.size(); ++i)
       if (refusal.find(fmt::format("objects[{}].material.type", i)) != std::string::npos)
-        ++refused[bsdf_type_name(scene.objects[i].material.type)];
+        ++refused[bsdf_type_name(scene.objects[i].material.type())];
   }
   void count_written(const Object& o) {
-    if (reflects(o.material)) ++written[bsdf_type_name(o.material.type)];
+    if (reflects(o.material)) ++written[bsdf_type_name(o.material.type())];
   }
   // The built-in scenes hold reflecting Lambertian, mirror and Phong
   // objects: both exporters write the first two and refuse Phong by name.

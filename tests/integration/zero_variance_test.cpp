@@ -123,7 +123,7 @@ struct OneLight {
   explicit OneLight(const Shape& shape, double le) {
     scene.name = "one_light";
     scene.source = "zero_variance_test";
-    scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, {BsdfType::kLambertian, 0.5, 0}, 0});
+    scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, {0.5, Lambertian{}}, 0});
     scene.objects.push_back({"light", shape, {}, le});
     device = std::make_unique<EmbreeDevice>();
     rtc = std::make_unique<EmbreeScene>(*device, scene);

@@ -56,10 +56,10 @@ std::vector<BsdfCase> correct_cases() {
   std::vector<BsdfCase> cases;
   const std::vector<std::pair<std::string, double>> angles{
       {"Normal", 0}, {"Deg45", 45}, {"Deg80", 80}, {"Grazing89p9", 89.9}};
-  for (const auto& [an, a] : angles) cases.push_back({"Lambertian" + an, {BsdfType::kLambertian, 0.8, 0}, a});
+  for (const auto& [an, a] : angles) cases.push_back({"Lambertian" + an, {0.8, Lambertian{}}, a});
   for (double n : {1.0, 10.0, 100.0, 1000.0})
     for (const auto& [an, a] : angles)
-      cases.push_back({"PhongN" + std::to_string(int(n)) + an, {BsdfType::kPhong, 0.7, n}, a});
+      cases.push_back({"PhongN" + std::to_string(int(n)) + an, {0.7, Phong{n}}, a});
   return cases;
 }
 
@@ -69,7 +69,7 @@ struct Lobe {
   double exponent;
 };
 Lobe lobe_of(const Material& m, const Vec3& wo) {
-  if (m.type == BsdfType::kPhong) return {Frame::from_normal(normalize(reflect_about_normal(wo))), m.phong_exponent};
+  if (const Phong* p = m.as<Phong>()) return {Frame::from_normal(normalize(reflect_about_normal(wo))), p->exponent};
   return {Frame::from_normal({0, 0, 1}), 1.0};
 }
 
@@ -178,7 +178,7 @@ class BsdfChi2 : public testing::TestWithParam<BsdfCase> {};
 
 TEST_P(BsdfChi2, SamplesFollowPdf) {
   const BsdfCase& c = GetParam();
-  const Bsdf bsdf{&c.material};
+  const Bsdf bsdf(c.material);
   const Vec3 wo = wo_at(c.incidence_deg);
   const Lobe lobe = lobe_of(c.material, wo);
   const Histogram h = histogram(c.name, bsdf, wo, lobe, [&](const Vec3& wi) { return bsdf.pdf(wo, wi); });
@@ -202,23 +202,23 @@ TEST(BsdfChi2Control, WrongPdfFails) {
     PdfFn (*claimed)(const Vec3& wo);
   };
   const std::vector<Control> controls{
-      {"PhongN10SampledPdfN11", {BsdfType::kPhong, 0.7, 10}, 45,
+      {"PhongN10SampledPdfN11", {0.7, Phong{10}}, 45,
        [](const Vec3& wo) -> PdfFn {
-         static const Material wrong{BsdfType::kPhong, 0.7, 11};
-         return [wo](const Vec3& wi) { return Bsdf{&wrong}.pdf(wo, wi); };
+         static const Material wrong{0.7, Phong{11}};
+         return [wo](const Vec3& wi) { return Bsdf(wrong).pdf(wo, wi); };
        }},
-      {"PhongN100SampledPdfN101Grazing", {BsdfType::kPhong, 0.7, 100}, 80,
+      {"PhongN100SampledPdfN101Grazing", {0.7, Phong{100}}, 80,
        [](const Vec3& wo) -> PdfFn {
-         static const Material wrong{BsdfType::kPhong, 0.7, 101};
-         return [wo](const Vec3& wi) { return Bsdf{&wrong}.pdf(wo, wi); };
+         static const Material wrong{0.7, Phong{101}};
+         return [wo](const Vec3& wi) { return Bsdf(wrong).pdf(wo, wi); };
        }},
-      {"LambertianSampledCos1p1Pdf", {BsdfType::kLambertian, 0.8, 0}, 30,
+      {"LambertianSampledCos1p1Pdf", {0.8, Lambertian{}}, 30,
        [](const Vec3&) -> PdfFn {
          return [](const Vec3& wi) { return wi.z > 0 ? 2.1 / (2 * kPi) * std::pow(wi.z, 1.1) : 0.0; };
        }},
   };
   for (const Control& k : controls) {
-    const Bsdf bsdf{&k.material};
+    const Bsdf bsdf(k.material);
     const Vec3 wo = wo_at(k.incidence);
     const Histogram h = histogram(k.name, bsdf, wo, lobe_of(k.material, wo), k.claimed(wo));
     const Chi2Result r = chi2_from_counts(h.observed, h.expected, sidak_alpha(kFamilyAlpha, family));
@@ -238,7 +238,7 @@ TEST(BsdfPdf, IntegratesToSuccessProbability) {
   const double alpha_each = sidak_alpha(kFamilyAlpha, cases.size());
   const double z_crit = normal_upper_quantile(alpha_each / 2);
   for (const BsdfCase& c : cases) {
-    const Bsdf bsdf{&c.material};
+    const Bsdf bsdf(c.material);
     const Vec3 wo = wo_at(c.incidence_deg);
     auto over = [&](double z0, double z1) {
       auto ring = [&](double z) {
@@ -259,7 +259,7 @@ TEST(BsdfPdf, IntegratesToSuccessProbability) {
       successes += bsdf.sample(wo, u1, u2) ? 1 : 0;
     }
     const double rate = successes / double(kSamples);
-    const bool whole_lobe = c.material.type == BsdfType::kLambertian || c.incidence_deg == 0;
+    const bool whole_lobe = c.material.as<Lambertian>() || c.incidence_deg == 0;
     const double se = std::sqrt(std::fmax(integral * (1 - integral), 0.0) / double(kSamples));
     std::cout << "  " << c.name << ": int pdf " << integral << ", success rate " << rate << ", z "
               << (se > 0 ? (rate - integral) / se : 0.0) << "\n";
@@ -276,7 +276,7 @@ TEST(BsdfPdf, IntegratesToSuccessProbability) {
 // sample().pdf == pdf(sample().wi) and weight == eval·cos θ/pdf recomputed.
 TEST(BsdfSample, PdfAndWeightAgreeWithPdfAndEval) {
   for (const BsdfCase& c : correct_cases()) {
-    const Bsdf bsdf{&c.material};
+    const Bsdf bsdf(c.material);
     const Vec3 wo = wo_at(c.incidence_deg);
     Rng rng(kSeed, 11, 0);
     int checked = 0;
@@ -298,8 +298,8 @@ TEST(BsdfSample, PdfAndWeightAgreeWithPdfAndEval) {
 
 // The mirror: a delta sample along reflect(wo), pdf 0, eval 0, weight = reflectance.
 TEST(BsdfSample, MirrorIsDelta) {
-  const Material mirror{BsdfType::kMirror, 0.9, 0};
-  const Bsdf bsdf{&mirror};
+  const Material mirror{0.9, Mirror{}};
+  const Bsdf bsdf(mirror);
   EXPECT_TRUE(bsdf.is_delta());
   for (double a : {0.0, 45.0, 80.0, 89.9}) {
     const Vec3 wo = wo_at(a);

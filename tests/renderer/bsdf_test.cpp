@@ -32,19 +32,8 @@ struct MaterialCase {
 
 void PrintTo(const MaterialCase& c, std::ostream* os) { *os << c.name; }
 
-Material make_material(BsdfType type, double albedo, double exponent = 0) {
-  Material m;
-  m.type = type;
-  m.albedo = albedo;
-  m.phong_exponent = exponent;
-  return m;
-}
-
 Material make_ggx(double albedo, double alpha, MicrofacetShadowing shadowing) {
-  Material m = make_material(BsdfType::kGgx, albedo);
-  m.ggx_alpha = alpha;
-  m.shadowing = shadowing;
-  return m;
+  return Material{albedo, Ggx{alpha, shadowing}};
 }
 
 Vec3 wo_at(double theta_deg) {
@@ -55,7 +44,7 @@ Vec3 wo_at(double theta_deg) {
 using BsdfParam = std::tuple<MaterialCase, double>;
 class BsdfTest : public testing::TestWithParam<BsdfParam> {
  protected:
-  Bsdf bsdf() const { return Bsdf{&std::get<0>(GetParam()).material}; }
+  Bsdf bsdf() const { return Bsdf(std::get<0>(GetParam()).material); }
   Vec3 wo() const { return wo_at(std::get<1>(GetParam())); }
 };
 
@@ -99,7 +88,7 @@ TEST_P(BsdfTest, PdfIntegratesToSuccessProbability) {
     success.add(b.sample(wo(), u1, u2).has_value() ? 1.0 : 0.0);
   }
   EXPECT_TRUE(testing_support::means_consistent(mass, success)) << mass.mean << " vs " << success.mean;
-  const BsdfType type = std::get<0>(GetParam()).material.type;
+  const BsdfType type = std::get<0>(GetParam()).material.type();
   // GGX reflects part of every lobe below the horizon, even at normal incidence.
   if (type == BsdfType::kLambertian || (type == BsdfType::kPhong && std::get<1>(GetParam()) == 0.0)) {
     EXPECT_EQ(success.mean, 1.0);  // nothing of the lobe lies below the horizon
@@ -118,7 +107,7 @@ TEST_P(BsdfTest, MeanWeightIsDirectionalAlbedo) {
     weight.add(s ? s->weight : 0.0);
   }
   EXPECT_TRUE(testing_support::means_consistent(albedo, weight)) << albedo.mean << " vs " << weight.mean;
-  EXPECT_LE(weight.mean, b.material->albedo * (1 + testing_support::kConstantMeanRelTol) +
+  EXPECT_LE(weight.mean, std::get<0>(GetParam()).material.albedo * (1 + testing_support::kConstantMeanRelTol) +
                              testing_support::z_critical(testing_support::kAlpha) * weight.mean_standard_error());
 }
 
@@ -136,10 +125,10 @@ std::string case_name(const testing::TestParamInfo<BsdfParam>& info) {
 
 INSTANTIATE_TEST_SUITE_P(
     Materials, BsdfTest,
-    testing::Combine(testing::Values(MaterialCase{"Lambertian", make_material(BsdfType::kLambertian, 0.7)},
-                                     MaterialCase{"Phong1", make_material(BsdfType::kPhong, 0.8, 1)},
-                                     MaterialCase{"Phong10", make_material(BsdfType::kPhong, 0.8, 10)},
-                                     MaterialCase{"Phong200", make_material(BsdfType::kPhong, 0.9, 200)},
+    testing::Combine(testing::Values(MaterialCase{"Lambertian", Material{0.7, Lambertian{}}},
+                                     MaterialCase{"Phong1", Material{0.8, Phong{1}}},
+                                     MaterialCase{"Phong10", Material{0.8, Phong{10}}},
+                                     MaterialCase{"Phong200", Material{0.9, Phong{200}}},
                                      // GGX lobes wide enough for the uniform-hemisphere estimates below.
                                      MaterialCase{"GgxAlpha0p2HeightCorrelated",
                                                   make_ggx(0.8, 0.2, MicrofacetShadowing::kHeightCorrelated)},
@@ -164,7 +153,7 @@ TEST(PhongBsdf, AlbedoAtNormalIncidenceIsRho) {
 // weight (computed from that pdf) falls short of the directional albedo by G1(wo).
 TEST(GgxBsdf, PdfWithoutG1FailsNormalisationAndAlbedo) {
   Material m = make_ggx(0.8, 0.5, MicrofacetShadowing::kHeightCorrelated);
-  const Bsdf b{&m, Defect::kGgxVndfPdfWithoutG1};
+  const Bsdf b(m, Defect::kGgxVndfPdfWithoutG1);
   const Vec3 wo = wo_at(60);
   const RunningMoments mass = hemisphere_integral([&](const Vec3& wi) { return b.pdf(wo, wi); }, 10);
   const RunningMoments albedo = hemisphere_integral([&](const Vec3& wi) { return b.eval(wo, wi) * wi.z; }, 11);
@@ -194,8 +183,8 @@ TEST(LambertianBsdf, CosineSamplingIsExact) {
 }
 
 TEST(MirrorBsdf, IsAFlaggedDelta) {
-  const Material m = make_material(BsdfType::kMirror, 0.9);
-  const Bsdf b{&m};
+  const Material m{0.9, Mirror{}};
+  const Bsdf b(m);
   EXPECT_TRUE(b.is_delta());
   const Vec3 wo = normalize(Vec3{0.3, -0.4, 0.8});
   const auto s = b.sample(wo, 0.1, 0.2);

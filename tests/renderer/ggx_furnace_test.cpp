@@ -59,9 +59,7 @@ Scene ggx_floor(MicrofacetShadowing shadowing, double view_deg, double alpha = 1
   scene.camera.width = scene.camera.height = 0.1;
   scene.camera.center = -2.0 * scene.camera.forward;
   Object floor = testing_support::make_floor(kRho);
-  floor.material.type = BsdfType::kGgx;
-  floor.material.ggx_alpha = alpha;
-  floor.material.shadowing = shadowing;
+  floor.material.bsdf = Ggx{alpha, shadowing};
   scene.objects.push_back(floor);
   scene.environment.radiance = kEnvironment;
   return scene;
@@ -80,8 +78,9 @@ double directional_albedo(double mu_o, MicrofacetShadowing shadowing) {
 // over the hemisphere; eval itself is tested against 50 digits in
 // ggx_test.cpp, so this tests the sampling, weights and strategies.
 double directional_albedo(double mu_o, const Material& m) {
-  if (m.ggx_alpha == 1) return directional_albedo(mu_o, m.shadowing);
-  const GgxBsdf b{kRho, m.ggx_alpha, m.shadowing};
+  const Ggx& g = std::get<Ggx>(m.bsdf);
+  if (g.alpha == 1) return directional_albedo(mu_o, g.shadowing);
+  const GgxBsdf b{kRho, g.alpha, g.shadowing};
   const Vec3 wo{std::sqrt((1 - mu_o) * (1 + mu_o)), 0, mu_o};
   return testing_support::integrate_directions([&](const Vec3& wi) { return b.eval(wo, wi) * wi.z; }, 0, 1);
 }

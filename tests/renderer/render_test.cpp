@@ -217,7 +217,7 @@ Scene glossy_scene() {
   scene.name = "glossy";
   scene.camera = make_camera(8);
   scene.camera.center = {0, 0, 3};
-  scene.objects.push_back(make_object("floor", Rectangle{{-4, -4, 0}, {8, 0, 0}, {0, 8, 0}}, 0.8, 0, BsdfType::kPhong, 20));
+  scene.objects.push_back(make_object("floor", Rectangle{{-4, -4, 0}, {8, 0, 0}, {0, 8, 0}}, 0.8, 0, Phong{20}));
   scene.objects.push_back(make_object("ball", Sphere{{0.4, 0.3, 0.5}, 0.5}, 0.6));
   scene.objects.push_back(make_object("panel", Rectangle{{-1.5, -0.5, 1.2}, {0, 1.0, 0}, {0.6, 0, 0}}, 0, 5.0));
   scene.objects.push_back(make_object("bulb", Sphere{{-0.6, 1.0, 1.0}, 0.2}, 0, 8.0));
@@ -271,7 +271,7 @@ TEST(PathTracer, MirrorReflectsTheLight) {
   Scene scene;
   scene.camera = make_camera(8);
   scene.objects.push_back(make_object("mirror", Rectangle{{-4, -4, 0}, {8, 0, 0}, {0, 8, 0}}, 0.8, 0,
-                                      BsdfType::kMirror));
+                                      Mirror{}));
   scene.objects.push_back(make_object("light", Disk{{0, 0, 2}, {0, 0, -1}, 0.5}, 0, 5.0));
   for (Strategy s : path_tracing_strategies()) {
     RenderOptions o;

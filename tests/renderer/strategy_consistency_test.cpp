@@ -266,9 +266,7 @@ class StrategyConsistencyGgx : public testing::TestWithParam<std::tuple<std::str
 
 TEST_P(StrategyConsistencyGgx, PdfOfSampledDirectionAndWeightAgree) {
   const auto& [file, alpha, shadowing] = GetParam();
-  Material ggx{BsdfType::kGgx, 0.8};
-  ggx.ggx_alpha = alpha;
-  ggx.shadowing = shadowing;
+  Material ggx{0.8, Ggx{alpha, shadowing}};
   const World w(file, &ggx);
   for (Strategy s : kStrategies) {
     const Counts c = check(w, s, Defect::kNone);

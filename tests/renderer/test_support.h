@@ -84,13 +84,11 @@ inline double integrate_directions(const std::function<double(const Vec3&)>& f, 
 }
 
 inline Object make_object(const std::string& name, Shape shape, double albedo = 0, double emission = 0,
-                          BsdfType type = BsdfType::kLambertian, double exponent = 0) {
+                          BsdfParameters bsdf = Lambertian{}) {
   Object o;
   o.name = name;
   o.shape = shape;
-  o.material.type = type;
-  o.material.albedo = albedo;
-  o.material.phong_exponent = exponent;
+  o.material = Material{albedo, bsdf};
   o.emitted_radiance = emission;
   return o;
 }

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analytic/error_ledger.h"
+#include "analytic/glossy.h"
 #include "analytic/phong.h"
 #include "analytic/receiver.h"
 #include "analytic/reference.h"
@@ -110,7 +111,7 @@ TEST_F(GlossyQuery, ViewFromTheCameraAndTheReceiversOwnBsdf) {
   EXPECT_EQ(a["view_source"], "the camera");
   EXPECT_EQ(a["view"][1].get<double>(), wo.y);
   EXPECT_EQ(a["view"][2].get<double>(), wo.z);
-  const double expected = analytic::phong_reflected_radiance(scene, q.point, q.normal, wo, receiver);
+  const double expected = analytic::glossy_reflected_radiance(scene, q.point, q.normal, wo, receiver);
   EXPECT_EQ(a["radiance"].get<double>(), expected);
   const double lambertian = scene.environment.radiance * scene.objects[receiver].material.albedo;
   EXPECT_GT(std::fabs(a["radiance"].get<double>() - lambertian), 0.1 * lambertian);  // the horizon cuts the lobe
@@ -120,7 +121,7 @@ TEST_F(GlossyQuery, ViewFromTheCameraAndTheReceiversOwnBsdf) {
   for (Strategy s : direct_strategies()) {
     const nlohmann::json& e = a["estimators"][strategy_name(s)];
     EXPECT_EQ(e["second_moment"].get<double>(),
-              analytic::phong_second_moment(s, scene, q.point, q.normal, wo, receiver))
+              analytic::glossy_second_moment(s, scene, q.point, q.normal, wo, receiver))
         << strategy_name(s);
     EXPECT_GT(e["variance"].get<double>(), 0.0) << strategy_name(s);
   }
