@@ -20,12 +20,6 @@ std::vector<Vec3> clip_to_hemisphere(const std::vector<Vec3>& vertices, const Ve
   return out;
 }
 
-Vec3 polygon_normal(const std::vector<Vec3>& v) {
-  Vec3 area{0, 0, 0};
-  for (size_t i = 1; i + 1 < v.size(); ++i) area = area + cross(v[i] - v[0], v[i + 1] - v[0]);
-  return normalize(area);
-}
-
 double polygon_irradiance(const std::vector<Vec3>& vertices, const Vec3& n) {
   const std::vector<Vec3> clipped = clip_to_hemisphere(vertices, n);
   const size_t count = clipped.size();

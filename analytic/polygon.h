@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "analytic/polygon_normal.h"  // polygon_normal, which the users of polygons call
 #include "core/vec3.h"
 
 namespace furnace::analytic {
@@ -31,10 +32,5 @@ std::vector<Vec3> clip_to_hemisphere(const std::vector<Vec3>& vertices, const Ve
 // v_i × v_{i+1} = 0 and is skipped, which is correct when p is not in its
 // interior).
 double polygon_irradiance(const std::vector<Vec3>& vertices, const Vec3& n);
-
-// Unit normal of a planar polygon (≥ 3 vertices, winding as given) from
-// Σ (v_i − v_0) × (v_{i+1} − v_0) (twice its vector area), so that repeated
-// or collinear vertices, as clipping leaves them, do not matter.
-Vec3 polygon_normal(const std::vector<Vec3>& vertices);
 
 }  // namespace furnace::analytic

@@ -1,10 +1,10 @@
 #include "analytic/small_emitter.h"
 
-#include "analytic/polygon.h"
-
 #include <cmath>
 
 #include <boost/math/quadrature/gauss.hpp>
+
+#include "analytic/polygon_normal.h"
 
 namespace furnace::analytic {
 

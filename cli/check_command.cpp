@@ -1,21 +1,27 @@
 #include "cli/check_command.h"
 
+#include <cstdio>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "cli/cli_options.h"
-#include "verify/harness.h"
+#include "core/error.h"
+#include "core/provenance.h"
+#include "core/scene.h"
+#include "verify/analytic_cache.h"
+#include "verify/check_report.h"
+#include "verify/image_report.h"
 
 namespace furnace::cli {
 
-CLI::App* add_check_command(CLI::App& app, verify::CheckOptions& o) {
+CLI::App* add_check_command(CLI::App& app, CheckCommandOptions& o) {
   CLI::App* command =
       app.add_subcommand("check", "Test another renderer's OpenEXR images of a scene against its exact reference");
   command->add_option("--scene", o.scene_path, "Scene file the images are renders of")->required();
   command->add_option("--image", o.image_paths,
                       "OpenEXR image(s): K >= 2 independent renders (different seeds), or one furnace EXR (with "
                       "variance.R/G/B and N channels)")->required();
-  o.alpha = verify::kDefaultFamilyAlpha;
   command->add_option("--alpha", o.alpha, "Family-wise false-alarm probability")
       ->capture_default_str()->check(family_alpha());
   command->add_option("--max-detectable-bias", o.max_detectable_bias,
@@ -46,6 +52,33 @@ CLI::App* add_check_command(CLI::App& app, verify::CheckOptions& o) {
       "stderr); INCONCLUSIVE (exit 3) when nothing rejects but the test lacks that power (the report says how many "
       "images or samples would give it).\n" + std::string(kExitContract));
   return command;
+}
+
+int run_check(const CheckCommandOptions& options) {
+  try {
+    const Scene scene = load_scene(options.scene_path);
+    const std::string scene_hash = file_content_hash(options.scene_path);
+    const verify::CheckReference reference = verify::check_reference(scene, options.max_depth);
+    verify::require_finite_reference(reference.values, scene);
+    std::vector<verify::ForeignImage> images;
+    for (const std::string& path : options.image_paths)
+      images.push_back(verify::read_foreign_image(path, scene, options.channels));
+    verify::reject_identical_images(images, reference.values);
+    const verify::CheckResult r =
+        verify::check_images(images, reference.values, options.alpha, options.max_detectable_bias);
+    const std::vector<std::string> warnings = verify::provenance_warnings(scene, scene_hash, images, reference);
+    for (const std::string& w : warnings) std::fprintf(stderr, "furnace: warning: %s\n", w.c_str());
+    if (!options.zmap_path.empty()) verify::write_zmap(options.zmap_path, scene, r);
+    const std::string text = verify::format_check(scene, reference, r);
+    std::fputs(text.c_str(), options.json_path == "-" ? stderr : stdout);
+    if (!options.json_path.empty())
+      verify::emit_json(options.json_path, verify::check_json(scene, scene_hash, reference, images, r, warnings,
+                                                              options.channels, options.zmap_path));
+    return verify::exit_code(r.verdict);
+  } catch (const Error& e) {
+    if (!options.json_path.empty()) verify::emit_bad_input_json(options.json_path, "check", e.what());
+    throw;
+  }
 }
 
 }  // namespace furnace::cli

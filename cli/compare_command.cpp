@@ -1,14 +1,19 @@
 #include "cli/compare_command.h"
 
+#include <cstdio>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "cli/cli_options.h"
-#include "verify/harness.h"
+#include "core/error.h"
+#include "verify/compare_report.h"
+#include "verify/image_report.h"
+#include "verify/report_html.h"
 
 namespace furnace::cli {
 
-CLI::App* add_compare_command(CLI::App& app, verify::CompareOptions& o) {
+CLI::App* add_compare_command(CLI::App& app, CompareCommandOptions& o) {
   CLI::App* command = app.add_subcommand(
       "compare", "Test whether two sets of OpenEXR renders of any scene have the same expected image");
   const std::string side_help =
@@ -18,7 +23,6 @@ CLI::App* add_compare_command(CLI::App& app, verify::CompareOptions& o) {
   command->add_option("--b", o.b_paths, "OpenEXR renders of side B (e.g. the stored reference set; differences "
                       "are relative to B)" + side_help)
       ->required()->type_name("FILE");
-  o.alpha = verify::kDefaultFamilyAlpha;
   command->add_option("--alpha", o.alpha, "Family-wise false-alarm probability over every test")
       ->capture_default_str()->check(family_alpha());
   command->add_option("--max-detectable-difference", o.max_detectable_difference,
@@ -55,6 +59,41 @@ CLI::App* add_compare_command(CLI::App& app, verify::CompareOptions& o) {
       "sides); INCONCLUSIVE (exit 3) when nothing rejects but the test lacks that power (the report says how many "
       "renders or samples would give it).\n" + std::string(kExitContract));
   return command;
+}
+
+namespace {
+
+verify::CompareSide read_side(const std::vector<std::string>& paths, verify::ChannelMode mode) {
+  verify::CompareSide side;
+  for (const std::string& path : paths) side.images.push_back(verify::read_foreign_image(path, mode));
+  return side;
+}
+
+}  // namespace
+
+int run_compare(const CompareCommandOptions& options) {
+  try {
+    verify::PlotTools tools;
+    if (!options.html_dir.empty()) tools = verify::prepare_compare_html(options.html_dir);
+    const verify::CompareSide a = read_side(options.a_paths, options.channels);
+    const verify::CompareSide b = read_side(options.b_paths, options.channels);
+    const verify::CompareResult r = verify::compare_renders(a, b, options.alpha, options.max_detectable_difference,
+                                                            options.tile_size, options.test_variance);
+    const std::vector<std::string> warnings = verify::compare_warnings(a, b);
+    for (const std::string& w : warnings) std::fprintf(stderr, "furnace: warning: %s\n", w.c_str());
+    if (!options.zmap_path.empty()) verify::write_compare_zmap(options.zmap_path, r);
+    const std::string text = verify::format_compare(r);
+    std::fputs(text.c_str(), options.json_path == "-" ? stderr : stdout);
+    const auto report_json = [&] {
+      return verify::compare_json(a, b, r, warnings, options.channels, options.zmap_path);
+    };
+    if (!options.json_path.empty()) verify::emit_json(options.json_path, report_json());
+    if (!options.html_dir.empty()) verify::write_compare_html(tools, options.html_dir, report_json(), r);
+    return verify::exit_code(r.verdict);
+  } catch (const Error& e) {
+    if (!options.json_path.empty()) verify::emit_bad_input_json(options.json_path, "compare", e.what());
+    throw;
+  }
 }
 
 }  // namespace furnace::cli

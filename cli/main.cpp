@@ -34,8 +34,8 @@ int main(int argc, char** argv) {
   cli::VerifyCommandOptions verify;
   cli::ReportCommandOptions report;
   cli::AnalyticCommandOptions analytic;
-  verify::CheckOptions check;
-  verify::CompareOptions compare;
+  cli::CheckCommandOptions check;
+  cli::CompareCommandOptions compare;
   cli::ExportCommandOptions export_options;
   cli::SweepCommandOptions sweep;
   verify.command_line = report.command_line = cli::command_line_text(argc, argv);
@@ -45,8 +45,8 @@ int main(int argc, char** argv) {
       {cli::add_verify_command(app, verify), [&] { return cli::run_verify(verify); }},
       {cli::add_report_command(app, report), [&] { return cli::run_report(report); }},
       {cli::add_analytic_command(app, analytic), [&] { return cli::run_analytic(analytic); }},
-      {cli::add_check_command(app, check), [&] { return verify::run_check(check); }},
-      {cli::add_compare_command(app, compare), [&] { return verify::run_compare(compare); }},
+      {cli::add_check_command(app, check), [&] { return cli::run_check(check); }},
+      {cli::add_compare_command(app, compare), [&] { return cli::run_compare(compare); }},
       {cli::add_export_command(app, export_options), [&] { return cli::run_export(export_options); }},
       {cli::add_sweep_command(app, sweep), [&] { return cli::run_sweep(sweep); }},
   };

@@ -9,6 +9,7 @@
 #include "cli/progress.h"
 #include "core/error.h"
 #include "stats/statistics.h"
+#include "verify/harness.h"
 #include "verify/verdict_export.h"
 
 namespace furnace::cli {

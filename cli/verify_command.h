@@ -11,7 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "core/strategy.h"
-#include "verify/harness.h"
+#include "stats/test_design.h"
 
 namespace furnace::cli {
 
@@ -22,7 +22,7 @@ struct VerifyCommandOptions {
   int spp = 4096;
   uint64_t seed = 20261125;
   int threads = 0;
-  double alpha = verify::kDefaultFamilyAlpha;
+  double alpha = stats::kDefaultFamilyAlpha;
   int max_depth = kUnlimitedDepth;  // --scene files only; the suite sets its own
   // Empty: the built-in suite's own choice per case (it runs some scenes
   // under both), uniform for --scene files.

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "renderer/render.h"
 #include "renderer/sampling.h"
 
 namespace furnace {

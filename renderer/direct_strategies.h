@@ -20,7 +20,7 @@
 #include "renderer/estimator.h"
 #include "renderer/light_strategy.h"
 #include "renderer/lights.h"
-#include "renderer/render.h"
+#include "renderer/render_options.h"
 #include "renderer/rng.h"
 
 namespace furnace {

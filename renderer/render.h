@@ -26,8 +26,6 @@ Image render(const Scene& scene, const RenderOptions& options);
 // weigh the samples: true for a == b and for mis_balance with mis_power (the
 // MIS heuristic). One render then gives both images (render_sharing_samples).
 bool shares_samples(Strategy a, Strategy b);
-// The most strategies one render_sharing_samples call renders together.
-inline constexpr size_t kMaxSharedStrategies = 2;
 
 // One render for every strategy of `strategies` (1 to kMaxSharedStrategies,
 // each pair shares_samples; options.strategy is ignored): image e is render(scene, options with

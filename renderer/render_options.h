@@ -2,6 +2,7 @@
 // the light selection, the sample budget, the seed and the path depth.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -10,6 +11,10 @@
 namespace furnace {
 
 struct TracedRay;  // renderer/embree_scene.h
+
+// The most strategies one render renders together from shared samples
+// (render_sharing_samples in render.h, DirectLighting's shared estimators).
+inline constexpr size_t kMaxSharedStrategies = 2;
 
 struct RenderOptions {
   Strategy strategy = Strategy::kLightArea;

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draws `furnace compare --html DIR`'s page from DIR/compare.json.
 
-Usage: plot_compare.py DIR   (run by furnace compare, verify/compare_command.h)
+Usage: plot_compare.py DIR   (run by furnace compare, verify/compare_report.h)
 
 Uses plot_report.py's plotting (tone mapping, image panels, colour bars,
 atomic saves; it lives beside this file). Per tested channel it writes

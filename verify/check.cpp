@@ -1,28 +1,23 @@
 #include "verify/check.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
-#include <mutex>
+#include <utility>
 
-#include <boost/math/distributions/chi_squared.hpp>
-#include <boost/math/distributions/non_central_t.hpp>
-#include <boost/math/distributions/normal.hpp>
-#include <boost/math/distributions/students_t.hpp>
-#include <boost/math/tools/roots.hpp>
 #include <fmt/format.h>
 
 #include "analytic/global.h"
 #include "analytic/reference.h"
 #include "core/error.h"
 #include "core/provenance.h"
-#include "verify/harness.h"
 #include "stats/statistics.h"
+#include "stats/test_design.h"
+#include "verify/image_statistics.h"
 
 namespace furnace::verify {
-
 
 namespace {
 
@@ -44,99 +39,6 @@ double signed_statistic(const stats::MeanTestResult& t) {
   return t.mean >= t.reference ? kInf : -kInf;
 }
 
-// Bits of the noncentrality the root finder resolves (λ to ~1e-9 relative).
-constexpr int kNoncentralityBits = 30;
-
-// Two-sided level-α rejection probability of the t-test with `dof` d.o.f.
-// when the statistic is noncentral t with noncentrality λ.
-double t_test_power(double dof, double critical_t, double lambda) {
-  const boost::math::non_central_t_distribution<double> t(dof, lambda);
-  return boost::math::cdf(boost::math::complement(t, critical_t)) + boost::math::cdf(t, -critical_t);
-}
-
-}  // namespace
-
-namespace {
-
-// detectable_noncentrality's root solve (about 1–10 ms; a check needs a few,
-// and the simulation of its power thousands).
-double solve_detectable_noncentrality(double dof, double alpha, double power) {
-  const boost::math::normal_distribution<double> normal;
-  if (!std::isfinite(dof))  // z-test: the far tail's share of the power is below 1e-9 at the levels used
-    return boost::math::quantile(boost::math::complement(normal, alpha / 2)) +
-           boost::math::quantile(boost::math::complement(normal, 1 - power));
-  const boost::math::students_t_distribution<double> student(dof);
-  const double critical_t = boost::math::quantile(boost::math::complement(student, alpha / 2));
-  try {
-    // The additive (t_{1−α/2} + t_power) is a lower bound: start there, double until the power is reached.
-    double low = 0, high = critical_t + boost::math::quantile(boost::math::complement(student, 1 - power));
-    while (t_test_power(dof, critical_t, high) < power) low = high, high *= 2;
-    std::uintmax_t iterations = 200;
-    const auto root = boost::math::tools::toms748_solve(
-        [&](double lambda) { return t_test_power(dof, critical_t, lambda) - power; }, low, high,
-        boost::math::tools::eps_tolerance<double>(kNoncentralityBits), iterations);
-    return 0.5 * (root.first + root.second);
-  } catch (const std::exception&) {
-    // Boost's series overflow at one d.o.f. and per-pixel levels (critical t
-    // ~1e5). There the statistic (Z + λ)/|W| exceeds t essentially when
-    // |W| < λ/t (Z is negligible next to λ), so power = 2Φ(λ/t) − 1.
-    return critical_t * boost::math::quantile(normal, (1 + power) / 2);
-  }
-}
-
-}  // namespace
-
-double detectable_noncentrality(double dof, double alpha, double power) {
-  // Memoised: the same few (d.o.f., level) pairs recur in every check of a process.
-  static std::mutex mutex;
-  static std::map<std::array<double, 3>, double> solved;
-  const std::array<double, 3> key = {dof, alpha, power};
-  {
-    const std::lock_guard<std::mutex> lock(mutex);
-    if (const auto it = solved.find(key); it != solved.end()) return it->second;
-  }
-  const double lambda = solve_detectable_noncentrality(dof, alpha, power);
-  const std::lock_guard<std::mutex> lock(mutex);
-  return solved.emplace(key, lambda).first->second;
-}
-
-bool has_few_distinct_values(std::vector<double> values) {
-  const size_t k = values.size();
-  if (k < size_t(kFewValuesMinImages)) return false;
-  std::sort(values.begin(), values.end());
-  const size_t distinct = size_t(std::unique(values.begin(), values.end()) - values.begin());
-  return distinct > 1 && distinct * kFewValuesDivisor <= k;
-}
-
-double floored_variance(double sample_variance, double mean) {
-  if (sample_variance == 0) return 0;
-  const double floor = stats::kZeroVarianceRelTolerance * std::fabs(mean);
-  return std::max(sample_variance, floor * floor);
-}
-
-int smallest_sufficient_count(const std::function<bool(int)>& enough, int max_count) {
-  if (enough(2)) return 2;
-  int low = 2, high = 4;  // enough(low) is false; doubling until enough(high)
-  while (!enough(high)) {
-    if (high >= max_count) return 0;
-    low = high;
-    high = std::min(2 * high, max_count);
-  }
-  while (high - low > 1) {
-    const int mid = low + (high - low) / 2;
-    (enough(mid) ? high : low) = mid;
-  }
-  return high;
-}
-
-double spread_upper_bound_factor(double dof, double confidence) {
-  if (!std::isfinite(dof)) return 1.0;
-  const boost::math::chi_squared_distribution<double> chi2(dof);
-  return std::sqrt(dof / boost::math::quantile(chi2, 1 - confidence));
-}
-
-namespace {
-
 // Noncentralities per d.o.f. (one root solve each; pixels share a few d.o.f.).
 class DetectableCache {
  public:
@@ -147,7 +49,8 @@ class DetectableCache {
   double relative(double count, double sd, double reference, double dof) {
     auto [at, fresh] = factor_.try_emplace(dof, 0.0);
     if (fresh)
-      at->second = detectable_noncentrality(dof, alpha_, kReportedPower) * spread_upper_bound_factor(dof, kSpreadConfidence);
+      at->second = detectable_noncentrality(dof, alpha_, stats::kReportedPower) *
+                   spread_upper_bound_factor(dof, kSpreadConfidence);
     if (sd == 0) return 0;
     return reference > 0 ? at->second * sd / std::sqrt(count) / reference : kInf;
   }
@@ -174,6 +77,186 @@ double known_spp(const std::vector<ForeignImage>& images) {
   if (same) return std::stod(first);
   if (!images[0].count.empty()) return stats::median(images[0].count);
   return 0;
+}
+
+// Throws furnace::Error unless the images carry error bars: K ≥ 2 renders,
+// or one furnace EXR with N ≥ 2 at every one of its n pixels.
+void require_error_bars(const std::vector<ForeignImage>& images, size_t n) {
+  if (images.size() > 1) return;
+  if (!images[0].has_variance())
+    throw Error(fmt::format("checking needs at least two independent renders (different seeds) to estimate the "
+                            "error bars, or one furnace EXR with variance and N channels; '{}' alone has neither.",
+                            images[0].path));
+  for (size_t i = 0; i < n; ++i)
+    if (images[0].count[i] < 2)
+      throw Error(fmt::format("image '{}' has N = {} samples at pixel ({}, {}); one image alone needs at least 2 "
+                              "per pixel to estimate its variance.",
+                              images[0].path, images[0].count[i], i % size_t(images[0].width),
+                              i / size_t(images[0].width)));
+}
+
+// One tested channel of the K images (or of the one furnace EXR), per pixel
+// and summed over the pixels.
+struct ChannelPixels {
+  std::vector<double> means;      // the mean over the images
+  std::vector<double> variances;  // of one value (floored_variance): across the images, or the EXR's s²
+  std::vector<double> counts;     // K, or the EXR's N
+  std::vector<bool> few_values;   // has_few_distinct_values (K renders only)
+  std::vector<double> image_means;  // per image: the mean over its pixels
+  double image_mean = 0;            // of the averaged image
+  double sum_variance_of_mean = 0;  // Σ variance/count over the pixels
+  double sum_squared_error = 0;     // Σ (mean − reference)² over the pixels
+  bool all_constant = true;         // every pixel without spread: a zero-variance render
+};
+
+ChannelPixels channel_pixels(const std::vector<ForeignImage>& images, size_t c, const std::vector<double>& reference) {
+  const size_t n = reference.size();
+  const size_t k = images.size();
+  const bool furnace_variance = k == 1;
+  ChannelPixels p;
+  p.means.resize(n);
+  p.variances.resize(n);
+  p.counts.resize(n);
+  p.few_values.assign(n, false);
+  p.image_means.assign(k, 0.0);
+  std::vector<double> pixel_values(k);
+  for (size_t i = 0; i < n; ++i) {
+    double mean = 0;
+    for (const ForeignImage& img : images) mean += img.value[c][i];
+    mean /= double(k);
+    for (size_t j = 0; j < k; ++j) p.image_means[j] += images[j].value[c][i];
+    if (furnace_variance) {
+      p.counts[i] = images[0].count[i];
+      p.variances[i] = floored_variance(images[0].variance[c][i], mean);
+    } else {
+      double m2 = 0;
+      for (const ForeignImage& img : images) m2 += (img.value[c][i] - mean) * (img.value[c][i] - mean);
+      p.counts[i] = double(k);
+      p.variances[i] = floored_variance(m2 / double(k - 1), mean);
+      for (size_t j = 0; j < k; ++j) pixel_values[j] = images[j].value[c][i];
+      p.few_values[i] = has_few_distinct_values(pixel_values);
+    }
+    p.means[i] = mean;
+    p.all_constant = p.all_constant && p.variances[i] == 0;
+    p.sum_variance_of_mean += p.variances[i] / p.counts[i];
+    p.sum_squared_error += (mean - reference[i]) * (mean - reference[i]);
+    p.image_mean += mean;
+  }
+  p.image_mean /= double(n);
+  for (double& m : p.image_means) m /= double(n);
+  return p;
+}
+
+// A pixel that may be listed among the worst.
+struct Candidate {
+  size_t pixel, channel;
+  double value, t;
+  bool untested;
+};
+
+// The pixel tests of channel c at level alpha_pixel: each pixel's t into
+// pixel_t and `candidates`, the failures, untested pixels and pixel power
+// into cc.
+void test_pixels(const ChannelPixels& p, const std::vector<double>& reference, size_t c, double alpha_pixel,
+                 DetectableCache& pixel_power, ChannelCheck& cc, std::vector<double>& pixel_t,
+                 std::vector<Candidate>& candidates) {
+  std::vector<double> detectable, thresholds, dofs;
+  for (size_t i = 0; i < reference.size(); ++i) {
+    const stats::MeanTestResult t = stats::mean_test(uint64_t(p.counts[i]), p.means[i], p.variances[i], reference[i],
+                                                     alpha_pixel, stats::kReportedPower);
+    pixel_t[i] = signed_statistic(t);
+    if (p.few_values[i]) {
+      ++cc.pixels_few_values;
+      candidates.push_back({i, c, p.means[i], pixel_t[i], true});
+      continue;
+    }
+    // Constant across every sample yet off the reference, in a render that
+    // is not zero-variance: a rare contribution (p ≪ 1/samples) was never
+    // sampled. Its skewness is unbounded, so like verify's harness the
+    // pixel is untested and left to the image-mean test.
+    const bool untested = t.zero_variance && !t.pass && !p.all_constant;
+    if (untested) ++cc.pixels_untested;
+    else if (!t.pass) ++cc.pixel_failures;
+    candidates.push_back({i, c, p.means[i], pixel_t[i], untested});
+    if (!t.zero_variance) {
+      thresholds.push_back(t.threshold);
+      dofs.push_back(t.dof);
+    }
+    if (reference[i] > 0)
+      detectable.push_back(
+          pixel_power.relative(p.counts[i], std::sqrt(p.variances[i]), reference[i], p.counts[i] - 1));
+  }
+  cc.median_pixel_detectable_relative_bias = detectable.empty() ? kInf : stats::median(std::move(detectable));
+  cc.pixel_threshold = thresholds.empty() ? 0.0 : stats::median(thresholds);
+  cc.pixel_dof = dofs.empty() ? 0.0 : stats::median(dofs);
+}
+
+// The image-mean test of one channel at level alpha_mean: a z-test with the
+// summed pixel variances (one furnace EXR), else a t-test of the K image
+// means. Fills cc's image-mean fields; returns the standard deviation of one
+// image's mean, which the advice scales.
+double test_image_mean(const ChannelPixels& p, double reference_mean, double alpha_mean, DetectableCache& mean_power,
+                       ChannelCheck& cc) {
+  const size_t n = p.means.size();
+  const size_t k = p.image_means.size();
+  if (k == 1) {
+    const double sd_image_mean = p.all_constant ? 0.0 : std::sqrt(p.sum_variance_of_mean) / double(n);
+    const stats::ZTestResult z =
+        stats::z_test(cc.image_mean, reference_mean, sd_image_mean, alpha_mean, stats::kReportedPower);
+    cc.standard_error = z.standard_error;
+    cc.statistic = z.statistic;
+    cc.threshold = z.threshold;
+    cc.dof = kInf;
+    cc.detectable_relative_bias = mean_power.relative(1, sd_image_mean, reference_mean, kInf);
+    cc.image_mean_pass = z.pass;
+    return sd_image_mean;
+  }
+  double m2 = 0;
+  for (double m : p.image_means) m2 += (m - cc.image_mean) * (m - cc.image_mean);
+  const double s2 = floored_variance(m2 / double(k - 1), cc.image_mean);
+  const double sd_image_mean = std::sqrt(s2);
+  const stats::MeanTestResult t =
+      stats::mean_test(k, cc.image_mean, s2, reference_mean, alpha_mean, stats::kReportedPower);
+  cc.standard_error = t.standard_error;
+  cc.statistic = signed_statistic(t);
+  cc.threshold = t.threshold;
+  cc.dof = t.dof;
+  cc.detectable_relative_bias = mean_power.relative(double(k), sd_image_mean, reference_mean, double(k - 1));
+  cc.image_mean_pass = t.pass;
+  return sd_image_mean;
+}
+
+// The advice's bounds over the channels whose image-mean test lacks power
+// (CheckAdvice): the same test with more images or samples.
+struct AdviceBounds {
+  double images = 0, spp_factor_current = 0, spp_factor_advised = 0;
+  bool beyond = false;  // some channel needs more than kMaxAdvisedImages images
+};
+
+void bound_advice(DetectableCache& mean_power, const ChannelCheck& cc, double sd_image_mean, double target,
+                  int advised_k, AdviceBounds& b) {
+  const int needed = images_needed(mean_power, sd_image_mean, cc.reference_mean, target);
+  b.beyond = b.beyond || needed == 0;
+  b.images = std::max(b.images, double(needed));
+  const double at_current = cc.detectable_relative_bias / target;
+  const double at_advised = mean_power.relative(advised_k, sd_image_mean, cc.reference_mean, advised_k - 1) / target;
+  b.spp_factor_current = std::max(b.spp_factor_current, at_current * at_current);
+  b.spp_factor_advised = std::max(b.spp_factor_advised, at_advised * at_advised);
+}
+
+// The worst pixels: largest |t| first (a failed zero-spread pixel is ±inf).
+std::vector<WorstPixel> worst_pixels(std::vector<Candidate> candidates, const std::vector<ForeignImage>& images,
+                                     const std::vector<double>& reference) {
+  const size_t shown = std::min(candidates.size(), size_t(kWorstPixelsShown));
+  std::partial_sort(candidates.begin(), candidates.begin() + shown, candidates.end(),
+                    [](const Candidate& a, const Candidate& b) { return std::fabs(a.t) > std::fabs(b.t); });
+  std::vector<WorstPixel> worst;
+  for (size_t w = 0; w < shown; ++w) {
+    const Candidate& cand = candidates[w];
+    worst.push_back({int(cand.pixel % size_t(images[0].width)), int(cand.pixel / size_t(images[0].width)),
+                     images[0].channels[cand.channel], cand.value, reference[cand.pixel], cand.t, cand.untested});
+  }
+  return worst;
 }
 
 }  // namespace
@@ -225,23 +308,12 @@ CheckResult check_images(const std::vector<ForeignImage>& images, const std::vec
   const size_t k = images.size();
   const size_t channels = images[0].channels.size();
   for (const ForeignImage& img : images) FURNACE_CHECK(img.value.size() == channels && img.value[0].size() == n);
-  const bool furnace_variance = k == 1;
-  if (furnace_variance && !images[0].has_variance())
-    throw Error(fmt::format("checking needs at least two independent renders (different seeds) to estimate the "
-                            "error bars, or one furnace EXR with variance and N channels; '{}' alone has neither.",
-                            images[0].path));
-  if (furnace_variance)
-    for (size_t i = 0; i < n; ++i)
-      if (images[0].count[i] < 2)
-        throw Error(fmt::format("image '{}' has N = {} samples at pixel ({}, {}); one image alone needs at least 2 "
-                                "per pixel to estimate its variance.",
-                                images[0].path, images[0].count[i], i % size_t(images[0].width),
-                                i / size_t(images[0].width)));
+  require_error_bars(images, n);
 
   CheckResult r;
   r.images = int(k);
   r.pixels = int(n);
-  r.method = furnace_variance ? "furnace variance" : "across-images t";
+  r.method = k == 1 ? "furnace variance" : "across-images t";
   r.alpha = alpha;
   r.max_detectable_bias = max_detectable_bias;
   const double alpha_mean = stats::sidak_alpha(alpha * kImageMeanAlphaShare, channels);
@@ -250,130 +322,28 @@ CheckResult check_images(const std::vector<ForeignImage>& images, const std::vec
   for (double v : reference) reference_mean += v;
   reference_mean /= double(n);
 
-  struct Candidate {
-    size_t pixel, channel;
-    double value, t;
-    bool untested;
-  };
   std::vector<Candidate> candidates;
   r.pixel_t.assign(channels, std::vector<double>(n, 0.0));
   DetectableCache mean_power(alpha_mean), pixel_power(alpha_pixel);
-  double advice_images = 0, advice_factor_current = 0, advice_factor_advised = 0;
-  bool advice_beyond = false;
+  AdviceBounds advice;
   const int advised_k = std::max(int(k), kAdvisedImages);
   for (size_t c = 0; c < channels; ++c) {
+    const ChannelPixels pixels = channel_pixels(images, c, reference);
     ChannelCheck cc;
     cc.channel = images[0].channels[c];
     cc.alpha = alpha_mean;
     cc.pixel_alpha = alpha_pixel;
-    std::vector<double> image_means(k, 0.0), detectable, thresholds, dofs;
-    std::vector<double> means(n), variances(n), counts(n), pixel_values(k);
-    std::vector<bool> few_values(n, false);
-    double sum_sq = 0, sum_variance_of_mean = 0;
-    bool all_constant = true;  // every pixel without spread: a zero-variance render
-    for (size_t i = 0; i < n; ++i) {
-      double mean = 0;
-      for (const ForeignImage& img : images) mean += img.value[c][i];
-      mean /= double(k);
-      for (size_t j = 0; j < k; ++j) image_means[j] += images[j].value[c][i];
-      if (furnace_variance) {
-        counts[i] = images[0].count[i];
-        variances[i] = floored_variance(images[0].variance[c][i], mean);
-      } else {
-        double m2 = 0;
-        for (const ForeignImage& img : images) m2 += (img.value[c][i] - mean) * (img.value[c][i] - mean);
-        counts[i] = double(k);
-        variances[i] = floored_variance(m2 / double(k - 1), mean);
-        for (size_t j = 0; j < k; ++j) pixel_values[j] = images[j].value[c][i];
-        few_values[i] = has_few_distinct_values(pixel_values);
-      }
-      means[i] = mean;
-      all_constant = all_constant && variances[i] == 0;
-      sum_variance_of_mean += variances[i] / counts[i];
-      sum_sq += (mean - reference[i]) * (mean - reference[i]);
-      cc.image_mean += mean;
-    }
-    for (size_t i = 0; i < n; ++i) {
-      const stats::MeanTestResult t =
-          stats::mean_test(uint64_t(counts[i]), means[i], variances[i], reference[i], alpha_pixel, kReportedPower);
-      r.pixel_t[c][i] = signed_statistic(t);
-      if (few_values[i]) {
-        ++cc.pixels_few_values;
-        candidates.push_back({i, c, means[i], r.pixel_t[c][i], true});
-        continue;
-      }
-      // Constant across every sample yet off the reference, in a render that
-      // is not zero-variance: a rare contribution (p ≪ 1/samples) was never
-      // sampled. Its skewness is unbounded, so like verify's harness the
-      // pixel is untested and left to the image-mean test.
-      const bool untested = t.zero_variance && !t.pass && !all_constant;
-      if (untested) ++cc.pixels_untested;
-      else if (!t.pass) ++cc.pixel_failures;
-      candidates.push_back({i, c, means[i], r.pixel_t[c][i], untested});
-      if (!t.zero_variance) {
-        thresholds.push_back(t.threshold);
-        dofs.push_back(t.dof);
-      }
-      if (reference[i] > 0)
-        detectable.push_back(pixel_power.relative(counts[i], std::sqrt(variances[i]), reference[i], counts[i] - 1));
-    }
-    cc.image_mean /= double(n);
+    test_pixels(pixels, reference, c, alpha_pixel, pixel_power, cc, r.pixel_t[c], candidates);
+    cc.image_mean = pixels.image_mean;
     cc.reference_mean = reference_mean;
-    cc.relative_rmse = std::sqrt(sum_sq / double(n)) / (reference_mean > 0 ? reference_mean : 1.0);
-    cc.median_pixel_detectable_relative_bias = detectable.empty() ? kInf : stats::median(std::move(detectable));
-    cc.pixel_threshold = thresholds.empty() ? 0.0 : stats::median(thresholds);
-    cc.pixel_dof = dofs.empty() ? 0.0 : stats::median(dofs);
-
-    double sd_image_mean = 0;  // standard deviation of one image's mean
-    if (furnace_variance) {
-      sd_image_mean = all_constant ? 0.0 : std::sqrt(sum_variance_of_mean) / double(n);
-      const stats::ZTestResult z = stats::z_test(cc.image_mean, reference_mean, sd_image_mean, alpha_mean,
-                                                 kReportedPower);
-      cc.standard_error = z.standard_error;
-      cc.statistic = z.statistic;
-      cc.threshold = z.threshold;
-      cc.dof = kInf;
-      cc.detectable_relative_bias = mean_power.relative(1, sd_image_mean, reference_mean, kInf);
-      cc.image_mean_pass = z.pass;
-    } else {
-      for (double& m : image_means) m /= double(n);
-      double m2 = 0;
-      for (double m : image_means) m2 += (m - cc.image_mean) * (m - cc.image_mean);
-      const double s2 = floored_variance(m2 / double(k - 1), cc.image_mean);
-      sd_image_mean = std::sqrt(s2);
-      const stats::MeanTestResult t = stats::mean_test(k, cc.image_mean, s2, reference_mean, alpha_mean, kReportedPower);
-      cc.standard_error = t.standard_error;
-      cc.statistic = signed_statistic(t);
-      cc.threshold = t.threshold;
-      cc.dof = t.dof;
-      cc.detectable_relative_bias = mean_power.relative(double(k), sd_image_mean, reference_mean, double(k - 1));
-      cc.image_mean_pass = t.pass;
-    }
-    // Advice (CheckAdvice): the same image-mean test with more images or samples.
-    if (!(cc.detectable_relative_bias <= max_detectable_bias)) {
-      const int needed = images_needed(mean_power, sd_image_mean, reference_mean, max_detectable_bias);
-      advice_beyond = advice_beyond || needed == 0;
-      advice_images = std::max(advice_images, double(needed));
-      const double at_current = cc.detectable_relative_bias / max_detectable_bias;
-      const double at_advised =
-          mean_power.relative(advised_k, sd_image_mean, reference_mean, advised_k - 1) / max_detectable_bias;
-      advice_factor_current = std::max(advice_factor_current, at_current * at_current);
-      advice_factor_advised = std::max(advice_factor_advised, at_advised * at_advised);
-    }
+    cc.relative_rmse = std::sqrt(pixels.sum_squared_error / double(n)) / (reference_mean > 0 ? reference_mean : 1.0);
+    const double sd_image_mean = test_image_mean(pixels, reference_mean, alpha_mean, mean_power, cc);
+    if (!(cc.detectable_relative_bias <= max_detectable_bias))
+      bound_advice(mean_power, cc, sd_image_mean, max_detectable_bias, advised_k, advice);
     r.detectable_relative_bias = std::max(r.detectable_relative_bias, cc.detectable_relative_bias);
     r.channels.push_back(cc);
   }
-
-  // The worst pixels: largest |t| first (a failed zero-spread pixel is ±inf).
-  const size_t shown = std::min(candidates.size(), size_t(kWorstPixelsShown));
-  std::partial_sort(candidates.begin(), candidates.begin() + shown, candidates.end(),
-                    [](const Candidate& a, const Candidate& b) { return std::fabs(a.t) > std::fabs(b.t); });
-  for (size_t w = 0; w < shown; ++w) {
-    const Candidate& cand = candidates[w];
-    r.worst_pixels.push_back({int(cand.pixel % size_t(images[0].width)), int(cand.pixel / size_t(images[0].width)),
-                              images[0].channels[cand.channel], cand.value, reference[cand.pixel], cand.t,
-                              cand.untested});
-  }
+  r.worst_pixels = worst_pixels(std::move(candidates), images, reference);
 
   r.image_mean_has_power = r.detectable_relative_bias <= max_detectable_bias;
   r.pixels_have_power = true;
@@ -384,10 +354,10 @@ CheckResult check_images(const std::vector<ForeignImage>& images, const std::vec
   }
   if (!r.image_mean_has_power) {
     r.advice.needed = true;
-    r.advice.images_at_current_spp = advice_beyond ? 0 : int(advice_images);
+    r.advice.images_at_current_spp = advice.beyond ? 0 : int(advice.images);
     r.advice.advised_images = advised_k;
-    r.advice.spp_factor_at_advised_images = advice_factor_advised;
-    r.advice.spp_factor_at_current_images = advice_factor_current;
+    r.advice.spp_factor_at_advised_images = advice.spp_factor_advised;
+    r.advice.spp_factor_at_current_images = advice.spp_factor_current;
     r.advice.current_spp = known_spp(images);
   }
   r.verdict = rejected ? CheckVerdict::kFail

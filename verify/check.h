@@ -22,10 +22,11 @@
 // pixel tests: at K = 8 its critical t falls from 11.6 to 4.0.
 //
 // Power. The detectable bias is λ·σ⁺/√K: λ the noncentrality at which the
-// two-sided t-test (K − 1 d.o.f.) rejects with probability kReportedPower,
+// two-sided t-test (K − 1 d.o.f.) rejects with probability stats::kReportedPower,
 // from Boost's noncentral t (the usual additive t_{1−α/2} + t_{0.9} gives only
 // power 0.69 at one d.o.f.), and σ⁺ the spread's upper confidence bound
-// (kSpreadConfidence). The same for each pixel, with its own spread.
+// (kSpreadConfidence, verify/image_statistics.h). The same for each pixel,
+// with its own spread.
 //
 // Verdict.
 //  - FAIL (exit 1): any test rejects. A test with little power that still
@@ -38,7 +39,6 @@
 // does not gate PASS: a pixel sees a thousandth of the samples of the image.
 #pragma once
 
-#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -54,22 +54,6 @@ inline constexpr double kDefaultMaxDetectableBias = 0.01;
 // Share of the family-wise α given to the image-mean test(s); the pixel
 // tests share the rest (see above).
 inline constexpr double kImageMeanAlphaShare = 0.5;
-// Confidence of the upper bound on the spread that the detectable bias uses
-// (Browne 1995, "On the use of a pilot sample for sample size determination",
-// Stat. Med. 14:1933): with few images the observed spread is itself noisy,
-// and two images whose means happen to lie close together would otherwise
-// claim a power they lack. The bound is s·√(ν/χ²_{1−c, ν}): 7.96·s at ν = 1,
-// 1.57·s at ν = 7, 1.16·s at ν = 63; 1 for the z-test of one furnace EXR.
-inline constexpr double kSpreadConfidence = 0.9;
-// A pixel's K values repeat when at most K / kFewValuesDivisor of them are
-// distinct (and not all are equal: that is the zero-spread case); tested only
-// from kFewValuesMinImages images on (below, two equal values of three are
-// not evidence of a discrete render).
-inline constexpr int kFewValuesDivisor = 2;
-inline constexpr int kFewValuesMinImages = 4;
-// True when `values` (one pixel's K values) take so few distinct values that
-// their spread does not estimate the error (ChannelCheck::pixels_few_values).
-bool has_few_distinct_values(std::vector<double> values);
 // Pixels listed as the worst (largest |t|).
 inline constexpr int kWorstPixelsShown = 5;
 // The image count the advice quotes the spp for when K is smaller: with 7
@@ -168,26 +152,6 @@ struct CheckResult {
   CheckAdvice advice;
   CheckVerdict verdict = CheckVerdict::kFail;
 };
-
-// Images store 32-bit floats: a spread below kZeroVarianceRelTolerance (64
-// float steps) of the mean is round-off, not noise. Such a spread is floored
-// there, so that values that coincide to round-off by chance (two images of
-// 1 % noise agree to 7.6e-6 at some pixel of 1024 about one check in three)
-// do not make t explode. Exactly no spread (every value equal) stays 0: the
-// pixel must then match the reference exactly.
-double floored_variance(double sample_variance, double mean);
-
-// The smallest count k ≥ 2 with enough(k), for a predicate that stays true
-// once true (more images or renders never lose power); 0 when none up to
-// max_count. Doubling, then bisection: O(log k) calls.
-int smallest_sufficient_count(const std::function<bool(int)>& enough, int max_count);
-
-// The noncentrality λ = bias/SE at which a two-sided level-α t-test with
-// `dof` d.o.f. (+inf: the z-test) rejects with probability `power`.
-double detectable_noncentrality(double dof, double alpha, double power);
-// √(ν/χ²_{1−confidence, ν}): the one-sided upper confidence bound of σ over s
-// from ν d.o.f.; 1 for ν = +inf.
-double spread_upper_bound_factor(double dof, double confidence);
 
 // Throws furnace::Error for input the tests cannot use (one image without
 // variance channels, one furnace EXR with N < 2 somewhere).

@@ -11,8 +11,8 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
-#include "verify/check.h"
-#include "verify/harness.h"
+#include "stats/test_design.h"
+#include "verify/image_statistics.h"
 
 namespace furnace::verify {
 
@@ -116,16 +116,17 @@ class SideChannel {
   size_t c_;
 };
 
-// λ·f at a d.o.f.: the noncentrality reaching power kReportedPower times the
-// spread's upper-bound factor (verify/check.h), cached per d.o.f.
+// λ·f at a d.o.f.: the noncentrality reaching power stats::kReportedPower
+// times the spread's upper-bound factor (verify/image_statistics.h), cached
+// per d.o.f.
 class PowerFactor {
  public:
   explicit PowerFactor(double alpha) : alpha_(alpha) {}
   double operator()(double dof) {
     auto [at, fresh] = cache_.try_emplace(dof, 0.0);
     if (fresh)
-      at->second =
-          detectable_noncentrality(dof, alpha_, kReportedPower) * spread_upper_bound_factor(dof, kSpreadConfidence);
+      at->second = detectable_noncentrality(dof, alpha_, stats::kReportedPower) *
+                   spread_upper_bound_factor(dof, kSpreadConfidence);
     return at->second;
   }
 
@@ -280,7 +281,7 @@ void test_variance_ratio(const SideChannel& a, const SideChannel& b, size_t n, d
     var_sum_b += vb;
   }
   const double sa = cc.sum_variance_a, sb = cc.sum_variance_b;
-  const double z_power = stats::normal_upper_quantile(1 - kReportedPower);
+  const double z_power = stats::normal_upper_quantile(1 - stats::kReportedPower);
   if (sa == 0 || sb == 0) {  // a side without any spread: equal only if both have none
     cc.variance_ratio = sa == sb ? 1 : (sb == 0 ? kInf : 0);
     cc.variance_statistic = sa == sb ? 0 : (sb == 0 ? kInf : -kInf);

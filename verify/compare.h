@@ -44,10 +44,10 @@
 // variance). Šidák holds for two-sided tests of correlated normal statistics
 // (Šidák 1967), so the overlap of tiles, pixels and image is covered.
 //
-// Power (at kReportedPower, 0.9): the smallest relative difference of the
-// image mean detected, λ·f·SE/|mean_B| with λ from the noncentral t at the
-// Welch d.o.f. and f = spread_upper_bound_factor (verify/check.h, the same
-// rule as `furnace check`); the same for the median tile and the median
+// Power (at stats::kReportedPower, 0.9): the smallest relative difference of
+// the image mean detected, λ·f·SE/|mean_B| with λ from the noncentral t at the
+// Welch d.o.f. and f = spread_upper_bound_factor (verify/image_statistics.h,
+// the same rule as `furnace check`); the same for the median tile and the median
 // pixel; and the smallest variance ratio detected, exp((z_{1−α/2} + z_0.9)·SE)
 // of log R.
 //

@@ -12,19 +12,12 @@
 
 #include "core/scene.h"
 #include "renderer/render.h"
+#include "stats/test_design.h"
 #include "verify/analytic_cache.h"
 #include "verify/calibration.h"
 #include "verify/suite.h"
 
 namespace furnace::verify {
-
-// The family-wise false-alarm probability of one `furnace verify` run (all
-// scenes × strategies × pixels together). Stated once; every test's own
-// level is derived from it by the Šidák correction.
-inline constexpr double kDefaultFamilyAlpha = 0.01;
-// Power at which the minimum detectable bias is quoted: the bias the test
-// would catch with probability 1 − β. 0.9 is the usual design power.
-inline constexpr double kReportedPower = 0.9;
 
 // Each pixel's mean is tested with Hall's skewness-corrected t statistic
 // against Student's t quantile (stats::pixel_mean_test, stats/pixel_tests.h).
@@ -48,7 +41,7 @@ struct Verdict {
   double reference_mean = 0;
   double z = 0;
   double threshold = 0;             // |z| above this fails the image-mean test
-  double detectable_rel_bias = 0;   // smallest relative bias of the image mean found with power kReportedPower
+  double detectable_rel_bias = 0;   // smallest relative bias of the image mean found with power stats::kReportedPower
   // Per-pixel tests (each at the Šidák-corrected level).
   int pixel_failures = 0;
   int pixels_untested = 0;          // not mean-tested: too skewed at this spp, or constant and off (stats::PixelStatus)
@@ -69,7 +62,7 @@ struct Verdict {
   double measured_variance = 0;    // mean over pixels of the per-sample s²
   double predicted_variance = 0;   // mean over pixels of E[Y²] − E[Y]²
   double variance_z = 0;           // aggregate (Σ s² − Σ σ²)/√(Σ Var s²)
-  double variance_detectable_rel_error = 0;  // of the aggregate, at kReportedPower
+  double variance_detectable_rel_error = 0;  // of the aggregate, at stats::kReportedPower
   int variance_pixel_failures = 0;
   bool variance_pass = true;       // the aggregate variance test (true when not tested)
   double rmse = 0;                  // √(mean over pixels of (estimate − reference)²)

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "stats/pixel_tests.h"
+#include "stats/test_design.h"
 
 namespace furnace::verify {
 
@@ -54,7 +55,7 @@ std::string format_table(const std::vector<Verdict>& verdicts, double family_alp
   std::string out;
   out += fmt::format("family-wise alpha {} (Sidak over {} cases, each over its pixels + image mean); "
                      "detectable bias and variance error at power {}\n",
-                     family_alpha, verdicts.size(), kReportedPower);
+                     family_alpha, verdicts.size(), stats::kReportedPower);
   out += fmt::format("{:<22} {:<24} {:>6} {:>10} {:>10} {:>7} {:>6} {:>9} {:>7} {:>9} {:>9} {:>9} {:>10} {:>7} {:>10}  {}\n",
                      "scene", "strategy", "spp", "mean", "reference", "z", "z crit", "px fail", "px skip", "rel RMSE",
                      "detect", "px detect", "var detect", "time s", "Msamples/s", "verdict");

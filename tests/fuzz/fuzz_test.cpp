@@ -318,7 +318,7 @@ CliRun run_cli(const std::vector<std::string>& args, const fs::path& out_dir, co
   CliRun run{run_command(command).exit_code, read_file(err_file), {}};
   for (const auto& entry : fs::recursive_directory_iterator(out_dir)) {
     // check --json documents bad input with a complete report of verdict
-    // "BAD INPUT" (verify/check_command.h): an answer, not a half-written output.
+    // "BAD INPUT" (cli/check_command.h): an answer, not a half-written output.
     if (entry.path().extension() == ".json" && read_file(entry.path()).find("\"BAD INPUT\"") != std::string::npos)
       continue;
     run.left_behind.push_back(entry.path().lexically_relative(out_dir).string());

@@ -35,6 +35,7 @@
 #include "stats/statistics.h"
 #include "verify/check.h"
 #include "verify/check_image.h"
+#include "verify/image_statistics.h"
 
 namespace furnace::verify {
 namespace {

@@ -20,8 +20,9 @@
 #include "core/provenance.h"
 #include "core/scene.h"
 #include "verify/check.h"
-#include "verify/check_command.h"
 #include "verify/check_image.h"
+#include "verify/check_report.h"
+#include "verify/image_statistics.h"
 
 namespace furnace::verify {
 namespace {

@@ -1,6 +1,6 @@
-// `furnace compare` (verify/compare*.h): negative controls on synthetic
-// renders with known noise, bad input, and the false-alarm and power
-// calibration.
+// `furnace compare` (verify/compare.h, verify/compare_report.h and the
+// command, cli/compare_command.h): negative controls on synthetic renders
+// with known noise, bad input, and the false-alarm and power calibration.
 //
 // A synthetic render is base·(1 + σ·noise) per pixel, noise standard normal
 // from a named seed; base is a smooth gradient in [0.5, 1.5] over a 32×32
@@ -25,9 +25,10 @@
 #include "core/error.h"
 #include "core/exr.h"
 #include "stats/statistics.h"
+#include "stats/test_design.h"
+#include "tests/command.h"
 #include "verify/compare.h"
-#include "verify/compare_command.h"
-#include "verify/harness.h"
+#include "verify/compare_report.h"
 
 namespace furnace::verify {
 namespace {
@@ -322,8 +323,8 @@ TEST(Compare, OneFurnaceExrPerSide) {
 }
 
 // ---------------------------------------------------------------------------
-// Bad input, through the files and run_compare (the CLI turns furnace::Error
-// into exit 2).
+// Bad input, through the files and the command (`furnace compare`: bad input
+// is one line on stderr and exit 2).
 
 class CompareFiles : public testing::Test {
  protected:
@@ -354,26 +355,30 @@ class CompareFiles : public testing::Test {
     exr::write(path, file);
     return path;
   }
-  CompareOptions options(std::vector<std::string> a, std::vector<std::string> b) const {
-    CompareOptions o;
-    o.a_paths = std::move(a);
-    o.b_paths = std::move(b);
-    return o;
+  // The `furnace compare` command line of sides a and b.
+  static std::string compare_command(const std::vector<std::string>& a, const std::vector<std::string>& b) {
+    std::string command = std::string(FURNACE_CLI) + " compare";
+    for (const std::string& path : a) command += " --a " + path;
+    for (const std::string& path : b) command += " --b " + path;
+    return command;
   }
-  // run_compare must throw one sentence holding every fragment, and write
-  // the BAD INPUT JSON.
-  void expect_bad_input(CompareOptions o, const std::vector<std::string>& fragments) const {
-    o.json_path = (dir_ / "bad.json").string();
-    try {
-      run_compare(o);
-      FAIL() << "accepted";
-    } catch (const Error& e) {
-      const std::string msg = e.what();
-      for (const std::string& s : fragments) EXPECT_NE(msg.find(s), std::string::npos) << s << " not in: " << msg;
-      EXPECT_EQ(msg.back(), '.') << msg;
-      EXPECT_EQ(msg.find(". "), std::string::npos) << "one sentence: " << msg;
-    }
-    const nlohmann::json j = nlohmann::json::parse(exr_text(o.json_path));
+  // `furnace compare` must exit 2 with one sentence on stderr holding every
+  // fragment, write nothing to stdout, and write the BAD INPUT JSON.
+  void expect_bad_input(const std::vector<std::string>& a, const std::vector<std::string>& b,
+                        const std::vector<std::string>& fragments) const {
+    const std::string json_path = (dir_ / "bad.json").string();
+    const testing_support::CommandResult run =
+        testing_support::run_command(compare_command(a, b) + " --json " + json_path + " 2>&1 >/dev/null");
+    EXPECT_EQ(run.exit_code, 2) << run.output;
+    const std::string prefix = "furnace: error: ";
+    ASSERT_EQ(run.output.rfind(prefix, 0), 0u) << run.output;
+    ASSERT_EQ(run.output.back(), '\n') << run.output;
+    const std::string msg = run.output.substr(prefix.size(), run.output.size() - prefix.size() - 1);
+    for (const std::string& s : fragments) EXPECT_NE(msg.find(s), std::string::npos) << s << " not in: " << msg;
+    EXPECT_EQ(msg.back(), '.') << msg;
+    EXPECT_EQ(msg.find(". "), std::string::npos) << "one sentence: " << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
+    const nlohmann::json j = nlohmann::json::parse(exr_text(json_path));
     EXPECT_EQ(j["verdict"], "BAD INPUT");
     EXPECT_EQ(j["exit_code"], 2);
   }
@@ -386,14 +391,15 @@ class CompareFiles : public testing::Test {
 };
 
 TEST_F(CompareFiles, SameDistributionFilesAreSameAndWriteJsonAndZmap) {
-  CompareOptions o = options(write_side(Synthetic(), "a"), write_side(Synthetic().set_seed(kSeedB), "b"));
-  o.json_path = (dir_ / "r.json").string();
-  o.zmap_path = (dir_ / "t.exr").string();
-  EXPECT_EQ(run_compare(o), 0);
-  const nlohmann::json j = nlohmann::json::parse(exr_text(o.json_path));
+  const std::string json_path = (dir_ / "r.json").string(), zmap_path = (dir_ / "t.exr").string();
+  const testing_support::CommandResult run = testing_support::run_command(
+      compare_command(write_side(Synthetic(), "a"), write_side(Synthetic().set_seed(kSeedB), "b")) + " --json " +
+      json_path + " --zmap " + zmap_path + " 2>&1");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json j = nlohmann::json::parse(exr_text(json_path));
   EXPECT_EQ(j["verdict"], "SAME");
   EXPECT_EQ(j["channels"][0]["tiles"]["tiles"], 16);
-  const exr::Image z = exr::read(o.zmap_path);
+  const exr::Image z = exr::read(zmap_path);
   EXPECT_TRUE(z.has_channel("Y"));
   EXPECT_EQ(z.width, kSize);
 }
@@ -404,7 +410,7 @@ TEST_F(CompareFiles, ResolutionMismatchIsBadInput) {
   for (const char* c : {"R", "G", "B"}) small.floats[c].assign(16 * 16, 1.0f);
   std::vector<std::string> b = write_side(Synthetic().set_seed(kSeedB), "b");
   b[1] = write(small, "small.exr");
-  expect_bad_input(options(write_side(Synthetic(), "a"), b), {"small.exr", "16x16", "32x32"});
+  expect_bad_input(write_side(Synthetic(), "a"), b, {"small.exr", "16x16", "32x32"});
 }
 
 TEST_F(CompareFiles, ChannelMismatchIsBadInput) {
@@ -413,7 +419,7 @@ TEST_F(CompareFiles, ChannelMismatchIsBadInput) {
   y.floats["Y"].assign(kSize * kSize, 1.0f);
   std::vector<std::string> b = write_side(Synthetic().set_seed(kSeedB), "b");
   b[0] = write(y, "luminance.exr");
-  expect_bad_input(options(write_side(Synthetic(), "a"), b), {"luminance.exr", "Y", "R, G, B"});
+  expect_bad_input(write_side(Synthetic(), "a"), b, {"luminance.exr", "Y", "R, G, B"});
 }
 
 TEST_F(CompareFiles, NanAndNegativeRadianceAreBadInput) {
@@ -426,13 +432,13 @@ TEST_F(CompareFiles, NanAndNegativeRadianceAreBadInput) {
     file.floats["G"][kSize * 3 + 5] = bad[k];
     std::vector<std::string> a = write_side(Synthetic(), "a");
     a[2] = write(file, "bad" + std::to_string(k) + ".exr");
-    expect_bad_input(options(a, write_side(Synthetic().set_seed(kSeedB), "b")), {a[2], "(5, 3)", text[k], "'G'"});
+    expect_bad_input(a, write_side(Synthetic().set_seed(kSeedB), "b"), {a[2], "(5, 3)", text[k], "'G'"});
   }
 }
 
 TEST_F(CompareFiles, OneImageWithoutVarianceIsBadInput) {
   const std::vector<std::string> a = write_side(Synthetic(), "a");
-  expect_bad_input(options({a[0]}, write_side(Synthetic().set_seed(kSeedB), "b")),
+  expect_bad_input({a[0]}, write_side(Synthetic().set_seed(kSeedB), "b"),
                    {a[0], "side a", "two independent renders"});
 }
 
@@ -440,14 +446,14 @@ TEST_F(CompareFiles, TheSameFileOnBothSidesIsBadInput) {
   const std::vector<std::string> a = write_side(Synthetic(), "a");
   std::vector<std::string> b = write_side(Synthetic().set_seed(kSeedB), "b");
   b[3] = a[1];
-  expect_bad_input(options(a, b), {a[1], "both sides"});
+  expect_bad_input(a, b, {a[1], "both sides"});
 }
 
 TEST_F(CompareFiles, IdenticalSetsAreBadInput) {
   // The same renders copied to other names: no independence, refused.
   const std::vector<std::string> a = write_side(Synthetic(), "a");
   const std::vector<std::string> b = write_side(Synthetic(), "copy");
-  expect_bad_input(options(a, b), {a[0], b[0], "identical"});
+  expect_bad_input(a, b, {a[0], b[0], "identical"});
 }
 
 #endif  // FURNACE_COMPARE_SLOW
@@ -520,8 +526,8 @@ void expect_power_at_the_detectable_difference(size_t trials) {
   const Calibration cal = calibrate(trials, 1 + kKnownDifference, kCalibrationSeed + 2000000, sigma);
   const double rate = double(cal.by_family[0]) / double(cal.trials);
   // P(X ≤ k) under power 0.9: the observed count of image-mean rejections.
-  const double p = boost::math::cdf(boost::math::binomial_distribution<double>(double(cal.trials), kReportedPower),
-                                    double(cal.by_family[0]));
+  const boost::math::binomial_distribution<double> at_power(double(cal.trials), stats::kReportedPower);
+  const double p = boost::math::cdf(at_power, double(cal.by_family[0]));
   std::printf(
       "a %.2g%% difference at pixel noise %.3g%% (reported detectable %.4g%%): the image-mean test rejected "
       "%zu of %zu (%.3f), any test %zu; P(X <= k | 0.9) = %.3g\n",
