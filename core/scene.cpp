@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <initializer_list>
 #include <limits>
 #include <sstream>
@@ -206,16 +207,22 @@ class Reader {
     return Reader(v, source_, qualify(field));
   }
   // Refuses every key of this object that no read asked about, naming the
-  // closest known one; `owner` ("a ggx material"), when given, names whose
-  // fields they are.
-  void reject_unknown_fields(const std::string& owner = "") const {
+  // closest known one. `owner` ("a ggx material"), when given, names whose
+  // fields they are, and `owner_of` names what else a key may belong to
+  // ("a phong material"; empty for none).
+  void reject_unknown_fields(const std::string& owner = "",
+                             const std::function<std::string(const std::string&)>& owner_of = nullptr) const {
     for (const auto& item : j_.items()) {
       if (std::find(known_.begin(), known_.end(), item.key()) != known_.end()) continue;
-      if (!owner.empty())
-        fail(printable(item.key()), fmt::format("is not a field of {} (did you mean '{}'? the fields of {}: {})", owner,
-                                                closest(item.key(), known_), owner, joined(known_)));
-      fail(printable(item.key()), fmt::format("is not a known field here (did you mean '{}'? known: {})",
-                                              closest(item.key(), known_), joined(known_)));
+      if (owner.empty())
+        fail(printable(item.key()), fmt::format("is not a known field here (did you mean '{}'? known: {})",
+                                                closest(item.key(), known_), joined(known_)));
+      const std::string other = owner_of ? owner_of(item.key()) : std::string();
+      if (!other.empty())
+        fail(printable(item.key()), fmt::format("is a field of {}, not of {} (the fields of {}: {})", other, owner,
+                                                owner, joined(known_)));
+      fail(printable(item.key()), fmt::format("is not a field of {} (did you mean '{}'? the fields of {}: {})", owner,
+                                              closest(item.key(), known_), owner, joined(known_)));
     }
   }
   const std::string& source() const { return source_; }
@@ -362,7 +369,14 @@ Material parse_material(const Reader& r) {
   // Albedo above 1 creates energy; the furnace tests rely on ρ ≤ 1.
   if (r.has("albedo")) m.albedo = r.number_in("albedo", 0, 1);
   m.bsdf = parse_parameters(row->type, JsonMaterialFields(r));
-  r.reject_unknown_fields(fmt::format("a {} material", row->name));
+  // The first other type whose struct has the field, for the refusal.
+  const auto owner_of = [](const std::string& field) {
+    for (const BsdfTypeInfo& info : kBsdfTypeTable)
+      for (const MaterialField& f : std::visit([](const auto& p) { return p.fields(); }, default_parameters(info.type)))
+        if (field == f.name) return fmt::format("a {} material", info.name);
+    return std::string();
+  };
+  r.reject_unknown_fields(fmt::format("a {} material", row->name), owner_of);
   return m;
 }
 

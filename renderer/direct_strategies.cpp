@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
-#include "renderer/render.h"
+#include "renderer/render_options.h"
 #include "renderer/sampling.h"
 
 namespace furnace {

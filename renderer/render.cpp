@@ -45,10 +45,6 @@ std::array<Rng, kRayPacket> streams(uint64_t pixel_key, uint64_t first) {
 
 }  // namespace
 
-bool shares_samples(Strategy a, Strategy b) {
-  return a == b || (is_multi_sample_mis(a) && is_multi_sample_mis(b));
-}
-
 Image render(const Scene& scene, const RenderOptions& options) {
   return std::move(render_sharing_samples(scene, options, {options.strategy}).front());
 }

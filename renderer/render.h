@@ -21,12 +21,6 @@ namespace furnace {
 // strategy cannot see them (strategy_sees_delta_lights), or on a bad option.
 Image render(const Scene& scene, const RenderOptions& options);
 
-// Whether strategies a and b, from one seed, draw the same numbers, trace the
-// same rays and compute the same densities, and differ only in how they
-// weigh the samples: true for a == b and for mis_balance with mis_power (the
-// MIS heuristic). One render then gives both images (render_sharing_samples).
-bool shares_samples(Strategy a, Strategy b);
-
 // One render for every strategy of `strategies` (1 to kMaxSharedStrategies,
 // each pair shares_samples; options.strategy is ignored): image e is render(scene, options with
 // strategy = strategies[e]) to the bit (its rays are the same rays), but for

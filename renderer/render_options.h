@@ -16,6 +16,15 @@ struct TracedRay;  // renderer/embree_scene.h
 // (render_sharing_samples in render.h, DirectLighting's shared estimators).
 inline constexpr size_t kMaxSharedStrategies = 2;
 
+// Whether strategies a and b, from one seed, draw the same numbers, trace the
+// same rays and compute the same densities, and differ only in how they
+// weigh the samples: true for a == b and for mis_balance with mis_power (the
+// MIS heuristic). One render then gives both images (render_sharing_samples
+// in render.h).
+inline bool shares_samples(Strategy a, Strategy b) {
+  return a == b || (is_multi_sample_mis(a) && is_multi_sample_mis(b));
+}
+
 struct RenderOptions {
   Strategy strategy = Strategy::kLightArea;
   Defect defect = Defect::kNone;

@@ -112,7 +112,7 @@ Verdict evaluate_case(const Case& c, const Scene& scene, const Image& image, con
 
 // Whether cases a and b can take their images from one render: the same
 // scene file and options but for strategies that share their samples
-// (render.h's shares_samples), no ray log.
+// (render_options.h's shares_samples), no ray log.
 bool share_render(const Case& a, const Case& b) {
   const RenderOptions &x = a.options, &y = b.options;
   return a.scene_path == b.scene_path && shares_samples(x.strategy, y.strategy) && x.defect == y.defect &&
