@@ -36,16 +36,14 @@ void write_cycles_file(const Scene& scene, const ExportCommandOptions& o) {
   exporter::write_cycles(scene, options, o.output);
 }
 
-// The options that only some formats take (the others, --scene, --format,
+// Whether each option that only some formats take was given: --seed,
+// --emitter-grid, --sphere-subdivisions (the others, --scene, --format,
 // --spp, --max-depth and --output, every format takes).
-struct FormatOptionInfo {
-  const char* flag;
-  bool (*given)(const ExportCommandOptions& options);
-};
-constexpr std::array<FormatOptionInfo, 3> kFormatOptions = {{
-    {"--seed", [](const ExportCommandOptions& o) { return o.seed.has_value(); }},
-    {"--emitter-grid", [](const ExportCommandOptions& o) { return o.emitter_grid.has_value(); }},
-    {"--sphere-subdivisions", [](const ExportCommandOptions& o) { return o.sphere_subdivisions.has_value(); }},
+using OptionGiven = bool (*)(const ExportCommandOptions& options);
+constexpr std::array<OptionGiven, 3> kFormatOptions = {{
+    [](const ExportCommandOptions& o) { return o.seed.has_value(); },
+    [](const ExportCommandOptions& o) { return o.emitter_grid.has_value(); },
+    [](const ExportCommandOptions& o) { return o.sphere_subdivisions.has_value(); },
 }};
 
 struct ExportFormatInfo {
@@ -73,7 +71,7 @@ constexpr std::array<ExportFormatInfo, 2> kExportFormats = {{
 // does not take.
 void refuse_other_formats_options(const ExportFormatInfo& format, const ExportCommandOptions& o) {
   for (size_t i = 0; i < kFormatOptions.size(); ++i)
-    if (format.refusal[i] && kFormatOptions[i].given(o)) throw Error(format.refusal[i]);
+    if (format.refusal[i] && kFormatOptions[i](o)) throw Error(format.refusal[i]);
 }
 
 // Every enumerator 0 … kExportFormats.size() − 1 has exactly one row.

@@ -29,9 +29,13 @@ const BsdfTypeInfo& bsdf_type_info(BsdfType type) {
   check_failed(what.c_str(), __FILE__, __LINE__);
 }
 
+std::vector<MaterialField> Material::fields() const {
+  return std::visit([](const auto& p) { return p.fields(); }, bsdf);
+}
+
 std::string Material::text() const {
   std::string out = fmt::format("type \"{}\", albedo {}", bsdf_type_name(type()), albedo);
-  for (const MaterialField& f : std::visit([](const auto& p) { return p.fields(); }, bsdf))
+  for (const MaterialField& f : fields())
     out += f.word ? fmt::format(", {} \"{}\"", f.name, f.word) : fmt::format(", {} {}", f.name, f.number);
   return out;
 }

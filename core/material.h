@@ -200,15 +200,17 @@ struct Material {
   // diffuse surface).
   bool reflects() const { return !info().albedo_scales_reflection || albedo > 0; }
 
-  BsdfType type() const {
-    return std::visit([](const auto& p) { return std::decay_t<decltype(p)>::kType; }, bsdf);
-  }
-  const BsdfTypeInfo& info() const { return bsdf_type_info(type()); }
+  // The alternative's index is its BsdfType and its table row (the
+  // static_asserts above).
+  BsdfType type() const { return BsdfType(bsdf.index()); }
+  const BsdfTypeInfo& info() const { return kBsdfTypeTable[bsdf.index()]; }
   // The type's own parameters, when the material is of that type.
   template <class T>
   const T* as() const {
     return std::get_if<T>(&bsdf);
   }
+  // The type's own fields (its struct's fields()).
+  std::vector<MaterialField> fields() const;
   // Every field of the material as the scene file names them, type and
   // albedo first: "type \"ggx\", albedo 0.8, alpha 0.3, shadowing \"separable\"".
   std::string text() const;

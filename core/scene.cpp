@@ -372,7 +372,7 @@ Material parse_material(const Reader& r) {
   // The first other type whose struct has the field, for the refusal.
   const auto owner_of = [](const std::string& field) {
     for (const BsdfTypeInfo& info : kBsdfTypeTable)
-      for (const MaterialField& f : std::visit([](const auto& p) { return p.fields(); }, default_parameters(info.type)))
+      for (const MaterialField& f : Material{0, default_parameters(info.type)}.fields())
         if (field == f.name) return fmt::format("a {} material", info.name);
     return std::string();
   };

@@ -56,7 +56,7 @@ nlohmann::ordered_json bsdf_json(const Material& m) {
   nlohmann::ordered_json j;
   j["type"] = bsdf_type_name(m.type());
   j["albedo"] = m.albedo;
-  for (const MaterialField& f : std::visit([](const auto& p) { return p.fields(); }, m.bsdf)) {
+  for (const MaterialField& f : m.fields()) {
     if (f.word)
       j[f.name] = f.word;
     else
