@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "analytic/fresnel.h"
 #include "analytic/receiver_integrals.h"
 
 namespace furnace::analytic {
@@ -67,6 +68,12 @@ double smith_g2_squared_over_g1o(MicrofacetShadowing shadowing, double lambda_o,
   return 0;
 }
 
+// F(ωo·h) with ωo·h = |H|/2 = √((1 − cos α + 2μoμi)/2) (|H|² above); 1 without an index.
+double fresnel_at(const std::optional<ConductorIndex>& index, double mu_o, double mu_i, double gap) {
+  if (!index) return 1.0;
+  return fresnel_conductor_reference(std::sqrt(0.5 * (gap + 2 * mu_o * mu_i)), index->eta, index->k);
+}
+
 }  // namespace
 
 double ggx_lambda(double alpha, double cos_theta) {
@@ -76,18 +83,21 @@ double ggx_lambda(double alpha, double cos_theta) {
 }
 
 double ggx_brdf(double albedo, double alpha, MicrofacetShadowing shadowing, double cos_theta_o, double cos_theta_i,
-                double cos_alpha) {
+                double cos_alpha, std::optional<ConductorIndex> fresnel) {
   if (!(cos_theta_o > 0) || !(cos_theta_i > 0)) return 0.0;
   const double d = ggx_d(alpha * alpha, cos_theta_o, cos_theta_i, 1 - cos_alpha);
   const double g2 = smith_g2(shadowing, ggx_lambda(alpha, cos_theta_o), ggx_lambda(alpha, cos_theta_i));
-  return albedo * d * g2 / (4 * cos_theta_o * cos_theta_i);
+  return albedo * fresnel_at(fresnel, cos_theta_o, cos_theta_i, 1 - cos_alpha) * d * g2 /
+         (4 * cos_theta_o * cos_theta_i);
 }
 
-GgxReceiver::GgxReceiver(const Vec3& n, const Vec3& wo, double albedo, double alpha, MicrofacetShadowing shadowing)
+GgxReceiver::GgxReceiver(const Vec3& n, const Vec3& wo, double albedo, double alpha, MicrofacetShadowing shadowing,
+                         std::optional<ConductorIndex> fresnel)
     : ReceiverModel(n, wo),
       albedo(albedo),
       alpha(alpha),
       shadowing(shadowing),
+      fresnel(fresnel),
       cos_theta_o_(dot(n, wo)),
       lambda_o_(ggx_lambda(alpha, dot(n, wo))),
       alpha2_(alpha * alpha) {}
@@ -103,14 +113,17 @@ BsdfValue GgxReceiver::at_direction(double cos_theta, double, double one_minus_c
   const double d = ggx_d(alpha2_, mu_o, cos_theta, one_minus_cos_alpha);
   const double lambda_i = ggx_lambda(alpha, cos_theta);
   const double g1o = 1 / (1 + lambda_o_);
+  const double f = fresnel_at(fresnel, mu_o, cos_theta, one_minus_cos_alpha);
   BsdfValue value;
-  value.f_cos = albedo * d * smith_g2(shadowing, lambda_o_, lambda_i) / (4 * mu_o);
+  value.f_cos = albedo * f * d * smith_g2(shadowing, lambda_o_, lambda_i) / (4 * mu_o);
   value.pdf_solid_angle = g1o * d / (4 * mu_o);
-  value.f_cos2_over_pdf = albedo * albedo * d * smith_g2_squared_over_g1o(shadowing, lambda_o_, lambda_i) / (4 * mu_o);
+  value.f_cos2_over_pdf =
+      albedo * albedo * f * f * d * smith_g2_squared_over_g1o(shadowing, lambda_o_, lambda_i) / (4 * mu_o);
   return value;
 }
 
 std::vector<double> GgxReceiver::parameters() const {
+  if (fresnel) return {double(BsdfType::kGgx), albedo, alpha, double(shadowing), fresnel->eta, fresnel->k};
   return {double(BsdfType::kGgx), albedo, alpha, double(shadowing)};
 }
 

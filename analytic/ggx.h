@@ -6,7 +6,8 @@
 // The BRDF, written here from its definition (Walter et al. 2007,
 // "Microfacet models for refraction through rough surfaces"; Heitz 2014,
 // "Understanding the masking-shadowing function in microfacet-based BRDFs";
-// the same convention core/scene.h's Material names), Fresnel ≡ 1: with n the
+// the same convention core/scene.h's Material names), Fresnel ≡ 1 or the
+// exact conductor Fresnel F(ωo·h) of the material's index: with n the
 // unit normal facing the viewer, μo = n·ωo > 0, μi = n·ωi > 0 and the half
 // vector h = H/|H|, H = ωo + ωi,
 //     f(ωo, ωi) = ρ·D(h)·G2(ωo, ωi)/(4 μo μi),
@@ -46,6 +47,7 @@
 // moments its square.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -70,8 +72,9 @@ inline constexpr double kGgxQuadratureTolerance = kReceiverQuadratureTolerance;
 // f(ωo, ωi) of the GGX BRDF above at n·ωo = cos_theta_o > 0, n·ωi =
 // cos_theta_i > 0 and r·ωi = cos_alpha (r the mirror direction of ωo), sr⁻¹.
 // 0 when either cosine is ≤ 0.
+// With `fresnel`, f carries the conductor's F(ωo·h) (analytic/fresnel.h), ωo·h = |H|/2.
 double ggx_brdf(double albedo, double alpha, MicrofacetShadowing shadowing, double cos_theta_o, double cos_theta_i,
-                double cos_alpha);
+                double cos_alpha, std::optional<ConductorIndex> fresnel = std::nullopt);
 
 // Λ(ω) of the GGX distribution at n·ω = cos_theta > 0 (the stable form
 // α²tan²θ/(2(√(1 + α²tan²θ) + 1))), dimensionless.
@@ -80,10 +83,12 @@ double ggx_lambda(double alpha, double cos_theta);
 // The GGX receiver at one point: its frame and microfacet parameters.
 class GgxReceiver final : public ReceiverModel<GgxReceiver> {
  public:
-  GgxReceiver(const Vec3& n, const Vec3& wo, double albedo, double alpha, MicrofacetShadowing shadowing);
+  GgxReceiver(const Vec3& n, const Vec3& wo, double albedo, double alpha, MicrofacetShadowing shadowing,
+              std::optional<ConductorIndex> fresnel = std::nullopt);
   double albedo = 0;
   double alpha = 0;
   MicrofacetShadowing shadowing = MicrofacetShadowing::kHeightCorrelated;
+  std::optional<ConductorIndex> fresnel;  // none: F ≡ 1
 
   // at_direction with 1 − cos α computed from cos α (off by ~ε/(1 − cos α)
   // relative near the mirror direction: the machinery calls at_direction).
@@ -97,7 +102,7 @@ class GgxReceiver final : public ReceiverModel<GgxReceiver> {
   bool vanishes_below_mirror_plane() const override { return false; }
   std::vector<double> parameters() const override;
   std::string name() const override { return "a GGX receiver"; }
-  Material material() const override { return Material{albedo, Ggx{alpha, shadowing}}; }
+  Material material() const override { return Material{albedo, Ggx{alpha, shadowing, fresnel}}; }
 
  private:
   double cos_theta_o_;  // μo = n·ωo

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "analytic/glass.h"
 #include "analytic/reference.h"
 #include "core/error.h"
 
@@ -201,8 +202,15 @@ double leaving_radiance(const Scene& scene, const Classification& c, const Hit& 
 
 }  // namespace
 
+std::vector<double> global_reference_image(const Scene& scene, int max_segments, TransportConvention convention) {
+  if (has_dielectric(scene)) return glass_reference_image(scene, max_segments, convention, false);
+  return global_reference_image(scene, max_segments);
+}
+
 std::vector<double> global_reference_image(const Scene& scene, int max_segments) {
   if (max_segments < 1) throw Error(fmt::format("max_segments must be at least 1, got {}.", max_segments));
+  if (has_dielectric(scene))
+    no_closed_form(scene, "it has a dielectric, whose answer depends on the transport convention (not given)");
   const Classification c = classify(scene, max_segments);
   const Camera& camera = scene.camera;
   std::vector<double> image(size_t(camera.width_px) * size_t(camera.height_px));

@@ -51,7 +51,14 @@ double convex_furnace_radiance(double environment_radiance, double albedo, int m
 //  - perfect mirrors in front of any of the above: the camera ray is
 //    reflected (radiance scaled by the mirror's reflectance) until it meets
 //    a non-mirror surface or escapes.
+//  - glass scenes (glass.h): a smooth dielectric sphere, or dielectric
+//    interfaces in one plane, in a constant environment; their radiance
+//    depends on the transport convention, which this form does not take:
+//    it refuses a scene with a dielectric (use the form below).
 // Throws furnace::Error naming the scene and the reason when none applies.
 std::vector<double> global_reference_image(const Scene& scene, int max_segments);
+// The same for a renderer of the given transport convention (which matters
+// only for scenes with a dielectric).
+std::vector<double> global_reference_image(const Scene& scene, int max_segments, TransportConvention convention);
 
 }  // namespace furnace::analytic

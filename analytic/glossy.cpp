@@ -17,8 +17,10 @@ std::unique_ptr<Receiver> glossy_receiver(const Material& material, const Vec3& 
                    return std::make_unique<PhongReceiver>(n, wo, albedo, p.exponent);
                  },
                  [&](const Ggx& g) -> std::unique_ptr<Receiver> {
-                   return std::make_unique<GgxReceiver>(n, wo, albedo, g.alpha, g.shadowing);
-                 }},
+                   return std::make_unique<GgxReceiver>(n, wo, albedo, g.alpha, g.shadowing, g.fresnel);
+                 },
+                 // No receiver model transmits (yet): the dielectric's references are global.h's.
+                 [](const Dielectric&) -> std::unique_ptr<Receiver> { return nullptr; }},
       material.bsdf);
   FURNACE_CHECK((out != nullptr) == material.info().glossy && "the table's glossy column names the receivers");
   return out;

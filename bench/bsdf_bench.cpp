@@ -26,18 +26,24 @@ constexpr size_t kBatch = 4096;
 constexpr uint64_t kSeed = 0xbe7c;
 constexpr double kViewDeg = 45;
 
-const std::vector<std::array<double, 2>>& uniforms() {
-  static const std::vector<std::array<double, 2>> u = [] {
-    std::vector<std::array<double, 2>> v(kBatch);
+// (u1, u2, u_lobe): the warp's pair and the dielectric's lobe choice.
+const std::vector<std::array<double, 3>>& uniforms() {
+  static const std::vector<std::array<double, 3>> u = [] {
+    std::vector<std::array<double, 3>> v(kBatch);
     Rng rng(kSeed, 0, 0);
-    for (auto& p : v) p = {rng.next_double(), rng.next_double()};
+    for (auto& p : v) {
+      const double u1 = rng.next_double();
+      const double u2 = rng.next_double();
+      p = {u1, u2, rng.next_double()};
+    }
     return v;
   }();
   return u;
 }
 
-void BM_BsdfSample(benchmark::State& state, Material material) {
-  const Bsdf bsdf(material);
+// `viewer_in_front`: false views a dielectric from inside (η inverted).
+void BM_BsdfSample(benchmark::State& state, Material material, bool viewer_in_front = true) {
+  const Bsdf bsdf(material, BsdfSetting(Defect::kNone, TransportConvention::kRadiance, viewer_in_front));
   const double t = kViewDeg * kPi / 180;
   const Vec3 wo{std::sin(t), 0, std::cos(t)};
   const auto& u = uniforms();
@@ -45,7 +51,7 @@ void BM_BsdfSample(benchmark::State& state, Material material) {
   size_t failed = 0;
   for (auto _ : state) {
     for (const auto& p : u) {
-      const auto s = bsdf.sample(wo, p[0], p[1]);
+      const auto s = bsdf.sample(wo, p[0], p[1], p[2]);
       if (s) sum += s->weight;
       else ++failed;
     }
@@ -57,13 +63,23 @@ void BM_BsdfSample(benchmark::State& state, Material material) {
 
 Material lambertian() { return Material{0.8, Lambertian{}}; }
 Material phong(double n) { return Material{0.8, Phong{n}}; }
-Material ggx(double alpha, MicrofacetShadowing shadowing) { return Material{0.8, Ggx{alpha, shadowing}}; }
+Material ggx(double alpha, MicrofacetShadowing shadowing) { return Material{0.8, Ggx{alpha, shadowing, std::nullopt}}; }
+Material conductor(double alpha) {
+  return Material{1, Ggx{alpha, MicrofacetShadowing::kHeightCorrelated, ConductorIndex{0.2, 3.4}}};
+}
+// Glass of η 1.5 (viewed at 45°: from inside, past the critical angle 41.8° for the smooth one).
+Material dielectric(double alpha) { return Material{1, Dielectric{1.5, alpha, MicrofacetShadowing::kHeightCorrelated}}; }
 
 BENCHMARK_CAPTURE(BM_BsdfSample, lambertian, lambertian());
 BENCHMARK_CAPTURE(BM_BsdfSample, phong_n100, phong(100));
 BENCHMARK_CAPTURE(BM_BsdfSample, ggx_alpha0p2_height_correlated, ggx(0.2, MicrofacetShadowing::kHeightCorrelated));
 BENCHMARK_CAPTURE(BM_BsdfSample, ggx_alpha0p2_separable, ggx(0.2, MicrofacetShadowing::kSeparable));
 BENCHMARK_CAPTURE(BM_BsdfSample, ggx_alpha0p001_height_correlated, ggx(1e-3, MicrofacetShadowing::kHeightCorrelated));
+BENCHMARK_CAPTURE(BM_BsdfSample, ggx_alpha0p2_fresnel_gold, conductor(0.2));
+BENCHMARK_CAPTURE(BM_BsdfSample, dielectric_smooth_outside, dielectric(0), true);
+BENCHMARK_CAPTURE(BM_BsdfSample, dielectric_smooth_inside, dielectric(0), false);
+BENCHMARK_CAPTURE(BM_BsdfSample, dielectric_alpha0p2_outside, dielectric(0.2), true);
+BENCHMARK_CAPTURE(BM_BsdfSample, dielectric_alpha0p2_inside, dielectric(0.2), false);
 
 }  // namespace
 }  // namespace furnace

@@ -32,6 +32,7 @@ CLI::App* add_check_command(CLI::App& app, CheckCommandOptions& o) {
       "--max-depth", [&o](const int& segments) { o.max_depth = segments; },
       "The reference's path length, as for render (default: unlimited where the scene has a closed-form global "
       "answer, else direct lighting; 2 is direct lighting)"));
+  add_convention_option(command, o.convention);
   const std::map<std::string, verify::ChannelMode> channel_modes{{"gray", verify::ChannelMode::kGray},
                                                                  {"rgb", verify::ChannelMode::kRgb}};
   command->add_option("--channels", o.channels, "gray: test the mean of R, G, B (or Y); rgb: test R, G and B separately")
@@ -58,7 +59,7 @@ int run_check(const CheckCommandOptions& options) {
   try {
     const Scene scene = load_scene(options.scene_path);
     const std::string scene_hash = file_content_hash(options.scene_path);
-    const verify::CheckReference reference = verify::check_reference(scene, options.max_depth);
+    const verify::CheckReference reference = verify::check_reference(scene, options.max_depth, options.convention);
     verify::require_finite_reference(reference.values, scene);
     std::vector<verify::ForeignImage> images;
     for (const std::string& path : options.image_paths)

@@ -33,6 +33,7 @@ struct CheckCommandOptions {
   double alpha = stats::kDefaultFamilyAlpha;
   double max_detectable_bias = verify::kDefaultMaxDetectableBias;
   std::optional<int> max_depth;  // empty: verify::check_reference()'s default
+  TransportConvention convention = TransportConvention::kRadiance;  // the checked renderer's
   verify::ChannelMode channels = verify::ChannelMode::kGray;
   std::string zmap_path;  // empty: none
   std::string json_path;  // empty: none; "-": stdout

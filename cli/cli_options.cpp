@@ -163,6 +163,17 @@ CLI::Validator light_selection_by_name() {
   return enum_by_name(std::vector<std::pair<std::string, LightSelection>>(by_name.begin(), by_name.end()));
 }
 
+CLI::Option* add_convention_option(CLI::App* command, TransportConvention& convention) {
+  const std::map<std::string, TransportConvention> by_name = transport_convention_names();
+  return command
+      ->add_option("--convention", convention,
+                   "How radiance crossing a dielectric is transported: radiance (divided by η′² entering the denser "
+                   "side: pbrt-v4, Mitsuba 3) or none (unscaled: Cycles)")
+      ->transform(enum_by_name(std::vector<std::pair<std::string, TransportConvention>>(by_name.begin(), by_name.end())))
+      ->type_name("radiance|none")
+      ->default_str(transport_convention_name(convention));
+}
+
 CLI::Validator family_alpha() { return number_in(1e-12, 0.5); }
 
 CLI::Option* max_depth_option(CLI::Option* option) {

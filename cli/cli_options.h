@@ -83,6 +83,8 @@ CLI::Validator enum_by_name(std::vector<std::pair<std::string, Enum>> names) {
 CLI::Validator strategy_by_name();
 CLI::Validator defect_by_name();
 CLI::Validator light_selection_by_name();
+// --convention radiance|none (core/strategy.h's TransportConvention), default shown.
+CLI::Option* add_convention_option(CLI::App* command, TransportConvention& convention);
 
 // Upper bounds of the integer options: 2^24 spp keeps spp × pixels × path
 // length far inside 64-bit counters; 1024 threads is beyond any machine the

@@ -22,6 +22,7 @@ CLI::App* add_render_command(CLI::App& app, RenderCommandOptions& o) {
       ->transform(strategy_by_name())->type_name("TEXT")->default_str(strategy_name(r.strategy));
   command->add_option("--light-selection", r.light_selection, "Light selection pmf")
       ->transform(light_selection_by_name())->type_name("TEXT")->default_str(light_selection_name(r.light_selection));
+  add_convention_option(command, r.convention);
   command->add_option("--defect", r.defect, "Negative-control defect to inject (tests only)")
       ->transform(defect_by_name())->type_name("TEXT")->default_str(defect_name(r.defect));
   command->add_option("--spp", r.spp, "Samples per pixel")->capture_default_str()->transform(integer_in(1, kMaxSpp));

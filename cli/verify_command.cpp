@@ -25,6 +25,7 @@ CLI::App* add_verify_command(CLI::App& app, VerifyCommandOptions& o) {
           "Light selection pmf, uniform or power, for every case (default: the built-in suite's own choice per "
           "case, uniform for --scene files)")
       ->transform(light_selection_by_name())->type_name("TEXT");
+  add_convention_option(command, o.convention);
   command->add_option("--defect", o.defect, "Inject a negative-control defect (the run must then fail)")
       ->transform(defect_by_name())->type_name("TEXT")->default_str(defect_name(o.defect));
   command->add_option("--spp", o.spp, spp_help())->capture_default_str()->transform(integer_in(2, kMaxSpp));
@@ -55,12 +56,14 @@ std::vector<verify::Case> verify_cases(const VerifyCommandOptions& o) {
   if (o.scenes.empty())
     for (verify::Case c : suite_cases(verify::default_suite(o.spp, o.seed, o.threads), o.strategies)) {
       c.options.defect = o.defect;
+      c.options.convention = o.convention;
       if (o.light_selection) c.options.light_selection = *o.light_selection;
       cases.push_back(c);
     }
   for (verify::Case c : scene_file_cases(o.scenes, o.strategies)) {
     c.options.light_selection = o.light_selection.value_or(LightSelection::kUniform);
     c.options.defect = o.defect;
+    c.options.convention = o.convention;
     c.options.spp = o.spp;
     c.options.seed = o.seed;
     c.options.threads = o.threads;

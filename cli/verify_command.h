@@ -27,6 +27,7 @@ struct VerifyCommandOptions {
   // Empty: the built-in suite's own choice per case (it runs some scenes
   // under both), uniform for --scene files.
   std::optional<LightSelection> light_selection;
+  TransportConvention convention = TransportConvention::kRadiance;
   std::string json_path, html_dir;  // empty: not asked for
   std::string command_line;         // recorded in the HTML page
 };

@@ -40,6 +40,21 @@ std::string Material::text() const {
   return out;
 }
 
+Dielectric Dielectric::parse(const MaterialFieldReader& r) {
+  Dielectric m;
+  m.eta = r.number_in("eta", scene_limits::kMinDielectricEta, scene_limits::kMaxDielectricEta);
+  if (m.eta == 1)
+    r.refuse("eta", "must not be 1: an index-matched interface is invisible (remove the object instead)");
+  if (r.has("alpha")) {
+    m.alpha = r.number_in("alpha", 0.0, 1.0);
+    if (m.alpha != 0 && m.alpha < scene_limits::kMinGgxAlpha)
+      r.refuse("alpha", fmt::format("must be 0 (smooth) or in [{:g}, 1], got {:g}", scene_limits::kMinGgxAlpha,
+                                    m.alpha));
+  }
+  m.shadowing = parse_shadowing(r);
+  return m;
+}
+
 BsdfParameters default_parameters(BsdfType type) {
   return alternative(type, [](auto* t) { return BsdfParameters(std::decay_t<decltype(*t)>{}); }, kAlternatives);
 }

@@ -15,6 +15,8 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -25,7 +27,7 @@
 
 namespace furnace {
 
-enum class BsdfType { kLambertian, kMirror, kPhong, kGgx };
+enum class BsdfType { kLambertian, kMirror, kPhong, kGgx, kDielectric };
 
 // The vocabulary of material types: the scene file's word for each ("type"
 // of a material: the loader parses these and every message that names a
@@ -42,9 +44,9 @@ struct BsdfTypeInfo {
         keeps_energy_at_unit_albedo(keeps_energy_at_unit_albedo) {}
   BsdfType type;
   const char* name;
-  // The albedo multiplies the whole reflection (Lambertian ρ/π, a mirror's
-  // ρ·δ, Phong's lobe albedo, GGX's constant factor), so albedo 0 is black
-  // (Material::reflects).
+  // The albedo multiplies the whole BSDF (Lambertian ρ/π, a mirror's ρ·δ,
+  // Phong's lobe albedo, GGX's constant factor, a dielectric's factor on
+  // both its lobes), so albedo 0 is black (Material::reflects).
   bool albedo_scales_reflection;
   // A lobe that analytic/ integrates over the lights toward a view direction
   // (a glossy receiver, analytic/receiver.h), rather than a Lambertian
@@ -54,14 +56,18 @@ struct BsdfTypeInfo {
   // (Lambertian, an ideal mirror; not a microfacet lobe, which loses the
   // light its model sends below the horizon), so a closed enclosure of such
   // objects that emits has infinite radiance at unlimited depth (path_length.h).
+  // (A smooth dielectric keeps it too, but only a rough one would need this
+  // column to be false, and a column cannot tell them apart: false, which
+  // leaves such a scene to the segment bound, which refuses it as well.)
   bool keeps_energy_at_unit_albedo;
 };
-inline constexpr std::array<BsdfTypeInfo, 4> kBsdfTypeTable = {{
+inline constexpr std::array<BsdfTypeInfo, 5> kBsdfTypeTable = {{
     //                        albedo scales, glossy, keeps energy at albedo 1
     {BsdfType::kLambertian, "lambertian", true, false, true},
     {BsdfType::kMirror, "mirror", true, false, true},
     {BsdfType::kPhong, "phong", true, true, false},
     {BsdfType::kGgx, "ggx", true, true, false},
+    {BsdfType::kDielectric, "dielectric", true, false, false},
 }};
 // Every enumerator 0 … kBsdfTypeTable.size() − 1 has exactly one row, in order.
 constexpr bool bsdf_table_in_enumerator_order() {
@@ -106,6 +112,14 @@ inline constexpr double kMaxPhongExponent = 1e4;
 // Inf and zero pdfs with non-zero f down to this (tests/renderer/ggx_test.cpp,
 // tests/analytic/ggx_test.cpp); a smoother surface is a mirror.
 inline constexpr double kMinGgxAlpha = 1e-3;
+// A dielectric's relative index η (inside over outside): from an air bubble
+// in germanium to germanium in air. η = 1 (an index-matched, invisible
+// interface) is refused: the object does nothing but cost rays.
+inline constexpr double kMinDielectricEta = 0.25;
+inline constexpr double kMaxDielectricEta = 4.0;
+// A conductor's complex index n + ik: each part in [0, kMaxConductorIndex],
+// not both 0 (measured metals have n < 10 and k < 20 in the visible).
+inline constexpr double kMaxConductorIndex = 100.0;
 }  // namespace scene_limits
 
 // One of a material type's own parameters, as the scene file names it: a
@@ -127,6 +141,13 @@ class MaterialFieldReader {
   virtual double number_in(const std::string& field, double lo, double hi) const = 0;
   // A required string, one of `words`: its index there.
   virtual size_t word_in(const std::string& field, const std::vector<const char*>& words) const = 0;
+  // A required object: a reader of its fields.
+  virtual std::unique_ptr<MaterialFieldReader> object(const std::string& field) const = 0;
+  // Refuses the field's value with the reason (`what` completes "field 'x' …").
+  [[noreturn]] virtual void refuse(const std::string& field, const std::string& what) const = 0;
+  // Refuses every field of this object that no call above asked about (the
+  // material's own object is checked by the loader; a nested object by its parser).
+  virtual void reject_unknown_fields() const = 0;
 };
 
 // Lambertian: f = ρ/π.
@@ -156,29 +177,79 @@ struct Phong {
   }
 };
 
-// Isotropic Trowbridge–Reitz (GGX) microfacet reflection with Fresnel ≡ 1,
-// f = ρ·D·G2/(4 cos θo cos θi): "alpha", the roughness α of
+// The "shadowing" field of a microfacet material: height_correlated when absent.
+inline MicrofacetShadowing parse_shadowing(const MaterialFieldReader& r) {
+  if (!r.has("shadowing")) return MicrofacetShadowing::kHeightCorrelated;
+  return MicrofacetShadowing(
+      r.word_in("shadowing", {kMicrofacetShadowingTable[0].name, kMicrofacetShadowingTable[1].name}));
+}
+
+// A conductor's complex index of refraction n + ik relative to the outside
+// (core/fresnel.h's fresnel_conductor).
+struct ConductorIndex {
+  double eta = 0;  // n
+  double k = 1;
+};
+
+// Isotropic Trowbridge–Reitz (GGX) microfacet reflection,
+// f = ρ·F(ωo·h)·D·G2/(4 cos θo cos θi): "alpha", the roughness α of
 // D(m) = α²/(π cos⁴θm (α² + tan²θm)²), required, in [kMinGgxAlpha, 1];
-// "shadowing", the Smith form of G2, height_correlated when absent.
+// "shadowing", the Smith form of G2, height_correlated when absent;
+// "fresnel", absent for F ≡ 1, or {"eta": n, "k": k}, the exact
+// unpolarised Fresnel reflectance of a conductor of index n + ik.
 struct Ggx {
   static constexpr BsdfType kType = BsdfType::kGgx;
   double alpha = 1;
   MicrofacetShadowing shadowing = MicrofacetShadowing::kHeightCorrelated;
+  std::optional<ConductorIndex> fresnel = std::nullopt;
   std::vector<MaterialField> fields() const {
-    return {{"alpha", alpha}, {"shadowing", 0, microfacet_shadowing_name(shadowing)}};
+    std::vector<MaterialField> out{{"alpha", alpha}, {"shadowing", 0, microfacet_shadowing_name(shadowing)}};
+    if (fresnel) {
+      out.push_back({"fresnel.eta", fresnel->eta});
+      out.push_back({"fresnel.k", fresnel->k});
+    }
+    return out;
   }
   static Ggx parse(const MaterialFieldReader& r) {
     Ggx m;
     m.alpha = r.number_in("alpha", scene_limits::kMinGgxAlpha, 1.0);
-    if (r.has("shadowing"))
-      m.shadowing = MicrofacetShadowing(r.word_in("shadowing", {kMicrofacetShadowingTable[0].name,
-                                                                kMicrofacetShadowingTable[1].name}));
+    m.shadowing = parse_shadowing(r);
+    if (r.has("fresnel")) {
+      const std::unique_ptr<MaterialFieldReader> f = r.object("fresnel");
+      ConductorIndex index;
+      index.eta = f->number_in("eta", 0.0, scene_limits::kMaxConductorIndex);
+      index.k = f->number_in("k", 0.0, scene_limits::kMaxConductorIndex);
+      if (index.eta == 0 && index.k == 0) f->refuse("k", "must be above 0 when eta is 0 (an index of 0 is no material)");
+      f->reject_unknown_fields();
+      m.fresnel = index;
+    }
     return m;
   }
 };
 
+// A dielectric interface (glass): exact unpolarised Fresnel (core/fresnel.h)
+// chooses between reflection and refraction. "eta": the index behind the
+// front normal (inside a sphere) relative to the index in front of it,
+// required, in [kMinDielectricEta, kMaxDielectricEta] and not 1; "alpha": 0
+// or absent for a smooth interface (delta lobes), else the GGX roughness in
+// [kMinGgxAlpha, 1] of a rough one (Walter et al. 2007); "shadowing" as GGX's.
+// Radiance crossing the interface is scaled by the transport convention
+// (core/strategy.h's TransportConvention). The albedo is a constant factor
+// on both lobes (1 for clear glass).
+struct Dielectric {
+  static constexpr BsdfType kType = BsdfType::kDielectric;
+  double eta = 1.5;
+  double alpha = 0;
+  MicrofacetShadowing shadowing = MicrofacetShadowing::kHeightCorrelated;
+  bool smooth() const { return alpha == 0; }
+  std::vector<MaterialField> fields() const {
+    return {{"eta", eta}, {"alpha", alpha}, {"shadowing", 0, microfacet_shadowing_name(shadowing)}};
+  }
+  static Dielectric parse(const MaterialFieldReader& r);  // material.cpp
+};
+
 // The per-type parameters, one alternative per BsdfType in enumerator order.
-using BsdfParameters = std::variant<Lambertian, Mirror, Phong, Ggx>;
+using BsdfParameters = std::variant<Lambertian, Mirror, Phong, Ggx, Dielectric>;
 
 template <size_t... I>
 constexpr bool alternatives_in_enumerator_order(std::index_sequence<I...>) {

@@ -6,7 +6,9 @@
 // The bound. A path tracer continues a path by sampling its BSDF, whose
 // weight f·cos/pdf has expectation the directional albedo, at most the
 // material's `albedo` ρ for every BSDF furnace models (Lambertian, mirror,
-// normalised Phong and single-scattering GGX lose energy, none gains it).
+// normalised Phong, single-scattering GGX and the dielectric lose energy,
+// none gains it; a dielectric's transmission in the radiance convention
+// also carries 1/η′², which T below leaves out, as Russian roulette does).
 // From segment R (the roulette depth) on, Russian roulette keeps a path of
 // throughput T with probability min(1, T) and divides T by it, so a surviving
 // path has T ≥ 1 and E[T] shrinks by at most ρmax per segment:

@@ -8,6 +8,7 @@
 #include <functional>
 #include <initializer_list>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <vector>
 
@@ -335,6 +336,13 @@ Shape parse_shape(const Reader& r) {
 class JsonMaterialFields final : public MaterialFieldReader {
  public:
   explicit JsonMaterialFields(const Reader& r) : r_(r) {}
+  // A nested object's fields, owning its Reader.
+  explicit JsonMaterialFields(std::unique_ptr<Reader> owned) : owned_(std::move(owned)), r_(*owned_) {}
+  std::unique_ptr<MaterialFieldReader> object(const std::string& field) const override {
+    return std::make_unique<JsonMaterialFields>(std::make_unique<Reader>(r_.object(field)));
+  }
+  [[noreturn]] void refuse(const std::string& field, const std::string& what) const override { r_.fail(field, what); }
+  void reject_unknown_fields() const override { r_.reject_unknown_fields(); }
   bool has(const std::string& field) const override { return r_.has(field); }
   double number_in(const std::string& field, double lo, double hi) const override {
     return r_.number_in(field, lo, hi);
@@ -350,6 +358,7 @@ class JsonMaterialFields final : public MaterialFieldReader {
   }
 
  private:
+  std::unique_ptr<Reader> owned_;
   const Reader& r_;
 };
 

@@ -37,6 +37,15 @@ constexpr std::array<LightSelectionInfo, 2> kLightSelectionTable = {{
     {LightSelection::kPower, "power"},
 }};
 
+struct TransportConventionInfo {
+  TransportConvention convention;
+  const char* name;
+};
+constexpr std::array<TransportConventionInfo, 2> kTransportConventionTable = {{
+    {TransportConvention::kRadiance, "radiance"},
+    {TransportConvention::kNone, "none"},
+}};
+
 }  // namespace
 
 Strategy parse_strategy(const std::string& name) {
@@ -82,6 +91,21 @@ LightSelection parse_light_selection(const std::string& name) {
 std::map<std::string, LightSelection> light_selection_names() {
   std::map<std::string, LightSelection> out;
   for (const LightSelectionInfo& info : kLightSelectionTable) out.emplace(info.name, info.selection);
+  return out;
+}
+
+std::string transport_convention_name(TransportConvention c) {
+  return row_of(kTransportConventionTable, c, &TransportConventionInfo::convention).name;
+}
+
+TransportConvention parse_transport_convention(const std::string& name) {
+  return parse_in(kTransportConventionTable, name, &TransportConventionInfo::convention,
+                  &TransportConventionInfo::name, "transport convention");
+}
+
+std::map<std::string, TransportConvention> transport_convention_names() {
+  std::map<std::string, TransportConvention> out;
+  for (const TransportConventionInfo& info : kTransportConventionTable) out.emplace(info.name, info.convention);
   return out;
 }
 

@@ -55,30 +55,34 @@ struct StrategyInfo {
   // MIS heuristic exponent β of w_s = p_s^β / Σ p^β (1 balance, 2 power);
   // 0 for strategies that are not multi-sample MIS.
   int mis_beta;
+  // Draws directions on the viewer's side of the surface only (the
+  // hemisphere strategies): blind to what a surface transmits, so render()
+  // refuses it on a scene with a dielectric.
+  bool viewer_side_only;
   const char* description;  // one line, for --help and the README
 };
 
 // The table, in the order the CLI lists and the suite runs the strategies.
 inline constexpr std::array<StrategyInfo, 10> kStrategyTable = {{
-    {Strategy::kUniformHemisphere, "uniform_hemisphere", StrategyKind::kDirect, false, Strategy::kUniformHemisphere, 0,
+    {Strategy::kUniformHemisphere, "uniform_hemisphere", StrategyKind::kDirect, false, Strategy::kUniformHemisphere, 0, true,
      "directions uniform on the hemisphere, pdf 1/(2π) per sr"},
-    {Strategy::kCosineHemisphere, "cosine_hemisphere", StrategyKind::kDirect, false, Strategy::kCosineHemisphere, 0,
+    {Strategy::kCosineHemisphere, "cosine_hemisphere", StrategyKind::kDirect, false, Strategy::kCosineHemisphere, 0, true,
      "cosine-weighted directions, pdf cos θ/π per sr"},
-    {Strategy::kLightArea, "light_area", StrategyKind::kDirect, true, Strategy::kLightArea, 0,
+    {Strategy::kLightArea, "light_area", StrategyKind::kDirect, true, Strategy::kLightArea, 0, false,
      "a point uniform on a chosen emitter's area, plus a shadow ray"},
-    {Strategy::kLightSolidAngle, "light_solid_angle", StrategyKind::kDirect, true, Strategy::kLightSolidAngle, 0,
+    {Strategy::kLightSolidAngle, "light_solid_angle", StrategyKind::kDirect, true, Strategy::kLightSolidAngle, 0, false,
      "uniform in the solid angle of spheres (cone), triangles and rectangles; area sampling otherwise"},
-    {Strategy::kBsdf, "bsdf", StrategyKind::kDirect, false, Strategy::kCosineHemisphere, 0,
+    {Strategy::kBsdf, "bsdf", StrategyKind::kDirect, false, Strategy::kCosineHemisphere, 0, false,
      "the surface's BSDF sampling (cosine for Lambertian, lobe for Phong, the mirror direction)"},
-    {Strategy::kMisBalance, "mis_balance", StrategyKind::kDirect, true, Strategy::kMisBalance, 1,
+    {Strategy::kMisBalance, "mis_balance", StrategyKind::kDirect, true, Strategy::kMisBalance, 1, false,
      "one BSDF and one light_solid_angle sample, balance heuristic"},
-    {Strategy::kMisPower, "mis_power", StrategyKind::kDirect, true, Strategy::kMisPower, 2,
+    {Strategy::kMisPower, "mis_power", StrategyKind::kDirect, true, Strategy::kMisPower, 2, false,
      "one BSDF and one light_solid_angle sample, power heuristic (β = 2)"},
-    {Strategy::kMisOneSample, "mis_one_sample", StrategyKind::kDirect, true, Strategy::kMisOneSample, 0,
+    {Strategy::kMisOneSample, "mis_one_sample", StrategyKind::kDirect, true, Strategy::kMisOneSample, 0, false,
      "BSDF or light_solid_angle sampling chosen with probability 1/2, one-sample balance heuristic"},
-    {Strategy::kPathNaive, "path_naive", StrategyKind::kPath, false, std::nullopt, 0,
+    {Strategy::kPathNaive, "path_naive", StrategyKind::kPath, false, std::nullopt, 0, false,
      "path tracer: BSDF sampling, emission on hit, Russian roulette"},
-    {Strategy::kPathMis, "path_mis", StrategyKind::kPath, true, std::nullopt, 2,
+    {Strategy::kPathMis, "path_mis", StrategyKind::kPath, true, std::nullopt, 2, false,
      "path tracer: next-event estimation with the power heuristic, Russian roulette"},
 }};
 
@@ -141,6 +145,17 @@ std::string light_selection_name(LightSelection s);
 LightSelection parse_light_selection(const std::string& name);
 std::map<std::string, LightSelection> light_selection_names();
 
+// How radiance crossing a dielectric interface is transported (Veach 1997,
+// ch. 5): "radiance" divides it by η′² = (η_t/η_i)² on entering the denser
+// side (L/η² is what is conserved: pbrt-v4, Mitsuba 3), "none" transports it
+// unscaled (Cycles). A camera outside a closed glass object sees the same in
+// both (the factors cancel); a single interface, or a light or camera inside
+// glass, tells them apart by η².
+enum class TransportConvention { kRadiance, kNone };
+std::string transport_convention_name(TransportConvention c);
+TransportConvention parse_transport_convention(const std::string& name);
+std::map<std::string, TransportConvention> transport_convention_names();
+
 // Deliberately wrong variants, for negative controls only. kNone is the
 // renderer; every other value must make the verification fail.
 enum class Defect {
@@ -167,6 +182,13 @@ enum class Defect {
   kGgxLambdaOtherAlpha,
   kGgxSeparableAsHeightCorrelated,
   kGgxDWithoutInvPi,
+  kDielectricTransmissionWithoutEta2,
+  kDielectricReflectionJacobian,
+  kDielectricNoRadianceScaling,
+  kDielectricMacroFresnel,
+  kDielectricTirAbsorbs,
+  kDielectricEtaNotInverted,
+  kConductorFresnelApproximate,
 };
 
 struct DefectInfo {
@@ -174,7 +196,7 @@ struct DefectInfo {
   const char* name;
   const char* description;
 };
-inline constexpr std::array<DefectInfo, 23> kDefectTable = {{
+inline constexpr std::array<DefectInfo, 30> kDefectTable = {{
     {Defect::kNone, "none", "the renderer as it is"},
     {Defect::kDropLightCosine, "drop_light_cosine", "light_area forgets cos θ' (the area to solid angle Jacobian)"},
     {Defect::kPdfOffByConstant, "pdf_off_by_constant", "the weight divides by 1.1 × the true pdf"},
@@ -214,6 +236,21 @@ inline constexpr std::array<DefectInfo, 23> kDefectTable = {{
     {Defect::kGgxSeparableAsHeightCorrelated, "ggx_separable_as_height_correlated",
      "GGX evaluates the separable G1·G1 for a material that says height_correlated"},
     {Defect::kGgxDWithoutInvPi, "ggx_d_without_inv_pi", "GGX D(m) without its 1/π"},
+    {Defect::kDielectricTransmissionWithoutEta2, "dielectric_transmission_without_eta2",
+     "rough dielectric transmission f and pdf both without the Jacobian's η_i² (pbrt-v4 before dfa11074): "
+     "BSDF-sampled weights stay right"},
+    {Defect::kDielectricReflectionJacobian, "dielectric_reflection_jacobian",
+     "rough dielectric transmission f and pdf with the reflection Jacobian 1/(4|ωi·m|)"},
+    {Defect::kDielectricNoRadianceScaling, "dielectric_no_radiance_scaling",
+     "the radiance convention's 1/η′² on transmission dropped (the none convention rendered for radiance)"},
+    {Defect::kDielectricMacroFresnel, "dielectric_macro_fresnel",
+     "rough dielectric Fresnel taken at the macro normal instead of the microfacet normal (Cycles <= 3.5)"},
+    {Defect::kDielectricTirAbsorbs, "dielectric_tir_absorbs",
+     "total internal reflection treated as absorption: the reflection lobe weighted 1 − T without TIR"},
+    {Defect::kDielectricEtaNotInverted, "dielectric_eta_not_inverted",
+     "a dielectric seen from inside uses η instead of 1/η"},
+    {Defect::kConductorFresnelApproximate, "conductor_fresnel_approximate",
+     "GGX conductor Fresnel by the classic approximation (Cycles until 5.0), off by up to 0.096"},
 }};
 constexpr bool every_defect_has_one_row() {
   for (size_t v = 0; v < kDefectTable.size(); ++v) {

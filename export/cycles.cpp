@@ -268,7 +268,17 @@ CyclesMaterial cycles_material(const Scene& scene, size_t index, const CyclesOpt
                    return refused(fmt::format("the object {} has a normalised Phong BSDF, which Cycles does not have",
                                               object_material_text(scene, index)));
                  },
-                 [&](const Ggx& ggx) { return ggx_glossy(scene, index, ggx, options); }},
+                 [&](const Ggx& ggx) {
+                   if (ggx.fresnel)
+                     return refused(fmt::format("the object {} is a GGX conductor with Fresnel, which this exporter "
+                                                "does not write yet",
+                                                object_material_text(scene, index)));
+                   return ggx_glossy(scene, index, ggx, options);
+                 },
+                 [&](const Dielectric&) {
+                   return refused(fmt::format("the object {} is a dielectric, which this exporter does not write yet",
+                                              object_material_text(scene, index)));
+                 }},
       o.material.bsdf);
 }
 

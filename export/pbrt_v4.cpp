@@ -155,7 +155,17 @@ PbrtMaterial pbrt_material(const Scene& scene, size_t index) {
                                               "have",
                                               object_material_text(scene, index)));
                  },
-                 [&](const Ggx& ggx) { return ggx_conductor(scene, index, ggx); }},
+                 [&](const Ggx& ggx) {
+                   if (ggx.fresnel)
+                     return refused(fmt::format("the object {} is a GGX conductor with Fresnel, which this exporter "
+                                                "does not write yet",
+                                                object_material_text(scene, index)));
+                   return ggx_conductor(scene, index, ggx);
+                 },
+                 [&](const Dielectric&) {
+                   return refused(fmt::format("the object {} is a dielectric, which this exporter does not write yet",
+                                              object_material_text(scene, index)));
+                 }},
       m.bsdf);
 }
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "core/fresnel.h"
 #include "core/overloaded.h"
 
 namespace furnace {
@@ -98,10 +99,18 @@ Vec3 GgxBsdf::sample_visible_normal(const Vec3& wo_local, double u1, double u2) 
   return sample_ggx_visible_normal(wo_local, defect == Defect::kGgxSampleAlphaSquared ? alpha * alpha : alpha, u1, u2);
 }
 
+double GgxBsdf::fresnel(double cos_wo_h) const {
+  if (!index) return 1.0;
+  // DEFECT(conductor_fresnel_approximate): the classic approximation (Cycles until 5.0).
+  return defect == Defect::kConductorFresnelApproximate ? fresnel_conductor_approximate(cos_wo_h, index->eta, index->k)
+                                                        : fresnel_conductor(cos_wo_h, index->eta, index->k);
+}
+
 double GgxBsdf::eval(const Vec3& wo_local, const Vec3& wi_local) const {
   if (!(wo_local.z > 0 && wi_local.z > 0)) return 0.0;
   const Vec3 h = scene_normalize(wo_local + wi_local);  // h.z > 0: both directions are above the horizon
-  return albedo * distribution(h) * g2(wo_local, wi_local) / (4.0 * wo_local.z * wi_local.z);
+  const double f = albedo * distribution(h) * g2(wo_local, wi_local) / (4.0 * wo_local.z * wi_local.z);
+  return index ? f * fresnel(dot(wo_local, h)) : f;
 }
 std::optional<BsdfSample> GgxBsdf::sample(const Vec3& wo_local, double u1, double u2) const {
   if (!(wo_local.z > 0)) return std::nullopt;
@@ -122,13 +131,22 @@ double GgxBsdf::pdf(const Vec3& wo_local, const Vec3& wi_local) const {
   return visible_normal_pdf(wo_local, h) / (4.0 * wo_dot_h);
 }
 
-AnyBsdf make_bsdf(const Material& material, Defect defect) {
+AnyBsdf make_bsdf(const Material& material, const BsdfSetting& setting) {
   const double albedo = material.albedo;
-  return std::visit(overloaded{[&](const Lambertian&) -> AnyBsdf { return LambertianBsdf{albedo}; },
-                               [&](const Mirror&) -> AnyBsdf { return MirrorBsdf{albedo}; },
-                               [&](const Phong& p) -> AnyBsdf { return PhongBsdf{albedo, p.exponent, defect}; },
-                               [&](const Ggx& g) -> AnyBsdf { return GgxBsdf{albedo, g.alpha, g.shadowing, defect}; }},
-                    material.bsdf);
+  const Defect defect = setting.defect;
+  return std::visit(
+      overloaded{[&](const Lambertian&) -> AnyBsdf { return LambertianBsdf{albedo}; },
+                 [&](const Mirror&) -> AnyBsdf { return MirrorBsdf{albedo}; },
+                 [&](const Phong& p) -> AnyBsdf { return PhongBsdf{albedo, p.exponent, defect}; },
+                 [&](const Ggx& g) -> AnyBsdf { return GgxBsdf{albedo, g.alpha, g.shadowing, defect, g.fresnel}; },
+                 [&](const Dielectric& d) -> AnyBsdf {
+                   // Behind the front normal the viewer is inside: the far side's index relative
+                   // to the viewer's is 1/η. DEFECT(dielectric_eta_not_inverted) keeps η.
+                   const bool invert = !setting.viewer_in_front && defect != Defect::kDielectricEtaNotInverted;
+                   return DielectricBsdf{albedo,        invert ? 1.0 / d.eta : d.eta, d.alpha, d.shadowing,
+                                         setting.convention, defect};
+                 }},
+      material.bsdf);
 }
 
 }  // namespace furnace

@@ -1,31 +1,31 @@
 // BSDFs of the scene materials, in the local shading frame: z is the
 // geometric normal face-forwarded towards the viewer, so wo.z > 0 for a valid
-// query. All are reflection-only and two-sided.
+// query. All but the dielectric (dielectric.h) are reflection-only and
+// two-sided; the dielectric also transmits (wi.z < 0) and is told which side
+// the viewer is on (make_bsdf).
 //
 // Return convention (the one the whole renderer uses, see estimator.h):
 // a sample carries weight = f(wo, wi)·cos θi / pdf(wi), so the estimate of
 // ∫ f Li cos θi dωi is weight·Li(wi).
 //
-// Delta lobes (the perfect mirror) set `delta`, report pdf() == 0 and f == 0
-// for every query; their sample weight is the reflectance.
+// Delta lobes (the perfect mirror, the smooth dielectric) set `delta`,
+// report pdf() == 0 and f == 0 for every query; their sample weight is the
+// lobe's (the reflectance; a transmission's scaled by the convention).
 #pragma once
 
 #include <optional>
+#include <type_traits>
 #include <variant>
 
+#include "core/error.h"
 #include "core/scene.h"
 #include "core/strategy.h"
+#include "renderer/bsdf_sample.h"
+#include "renderer/dielectric.h"
 #include "renderer/microfacet.h"
 #include "renderer/sampling.h"
 
 namespace furnace {
-
-struct BsdfSample {
-  Vec3 wi_local;
-  double weight = 0;           // f·cos θi / pdf (for a delta lobe: the reflectance)
-  double pdf_solid_angle = 0;  // 0 for a delta lobe
-  bool delta = false;
-};
 
 // Lambertian: f = ρ/π; cosine-weighted sampling, exact: weight = ρ.
 struct LambertianBsdf {
@@ -60,9 +60,11 @@ struct PhongBsdf {
   double pdf(const Vec3& wo_local, const Vec3& wi_local) const;
 };
 
-// Isotropic GGX (Trowbridge–Reitz) microfacet reflection with Fresnel ≡ 1
+// Isotropic GGX (Trowbridge–Reitz) microfacet reflection
 // (renderer/microfacet.h has the formulas and their citations):
-//   f = albedo·D(h)·G2(wo, wi)/(4 cos θo cos θi),  h = normalize(wo + wi),
+//   f = albedo·F(wo·h)·D(h)·G2(wo, wi)/(4 cos θo cos θi),  h = normalize(wo + wi),
+// F ≡ 1, or the exact conductor Fresnel of core/fresnel.h when the material
+// gives an index (DEFECT(conductor_fresnel_approximate): the approximation),
 // for wo and wi above the horizon, else 0; G2 separable or height-correlated
 // as the material says. Sampling: a visible normal m ~ D_wo (exact), then
 // wi = reflect(wo, m), whose density is D_wo(h)/(4 wo·h); a wi at or below
@@ -83,8 +85,11 @@ struct GgxBsdf {
   double alpha = 1;
   MicrofacetShadowing shadowing = MicrofacetShadowing::kHeightCorrelated;
   Defect defect = Defect::kNone;
+  std::optional<ConductorIndex> index = std::nullopt;  // none: F ≡ 1
 
   double eval(const Vec3& wo_local, const Vec3& wi_local) const;
+  // F(wo·h), defect applied.
+  double fresnel(double cos_wo_h) const;
   std::optional<BsdfSample> sample(const Vec3& wo_local, double u1, double u2) const;
   // Density in solid angle (sr⁻¹) of sample()'s wi: D_wo(h)/(4 wo·h) on
   // wi.z > 0 (wo.z > 0), 0 elsewhere.
@@ -101,9 +106,22 @@ struct GgxBsdf {
 
 // A scene material's BSDF: one of the above, made by the renderer's one
 // visit over the material types (make_bsdf), then dispatched by std::visit.
-using AnyBsdf = std::variant<LambertianBsdf, MirrorBsdf, PhongBsdf, GgxBsdf>;
-// `defect`: a negative control that lives in the BSDF (PhongBsdf, GgxBsdf).
-AnyBsdf make_bsdf(const Material& material, Defect defect = Defect::kNone);
+using AnyBsdf = std::variant<LambertianBsdf, MirrorBsdf, PhongBsdf, GgxBsdf, DielectricBsdf>;
+// How a BSDF is made at a shading point besides its material: the negative
+// control that lives in the BSDF (Phong, GGX, dielectric), the transport
+// convention and which side of the surface the viewer is on (a dielectric's
+// η is inverted behind the front normal).
+struct BsdfSetting {
+  BsdfSetting() = default;
+  // From a defect alone (the usual case: radiance convention, viewer in front).
+  BsdfSetting(Defect defect_, TransportConvention convention_ = TransportConvention::kRadiance,
+              bool viewer_in_front_ = true)
+      : defect(defect_), convention(convention_), viewer_in_front(viewer_in_front_) {}
+  Defect defect = Defect::kNone;
+  TransportConvention convention = TransportConvention::kRadiance;
+  bool viewer_in_front = true;
+};
+AnyBsdf make_bsdf(const Material& material, const BsdfSetting& setting = {});
 
 class Bsdf {
   // std::visit by a chain of index tests the compiler inlines (GCC 12's
@@ -122,16 +140,33 @@ class Bsdf {
 
  public:
   Bsdf() = default;
-  explicit Bsdf(const Material& material, Defect defect = Defect::kNone)
-      : bsdf_(make_bsdf(material, defect)), black_(!(material.albedo > 0)) {}
+  explicit Bsdf(const Material& material, const BsdfSetting& setting = {})
+      : bsdf_(make_bsdf(material, setting)),
+        black_(!(material.albedo > 0)),
+        delta_(std::holds_alternative<MirrorBsdf>(bsdf_) ||
+               (std::holds_alternative<DielectricBsdf>(bsdf_) && std::get<DielectricBsdf>(bsdf_).smooth())),
+        transmits_(std::holds_alternative<DielectricBsdf>(bsdf_)) {}
 
-  bool is_delta() const { return std::holds_alternative<MirrorBsdf>(bsdf_); }
+  // Every lobe is a delta (a mirror, a smooth dielectric).
+  bool is_delta() const { return delta_; }
   bool is_black() const { return black_; }
+  // Scatters light to the other side of the surface as well (wi.z < 0).
+  bool transmits() const { return transmits_; }
   double eval(const Vec3& wo_local, const Vec3& wi_local) const {
     return dispatch([&](const auto& b) { return b.eval(wo_local, wi_local); });
   }
+  // A BSDF that does not transmit (every type but the dielectric), whose one
+  // lobe needs no choice: (u1, u2) drive its warp.
   std::optional<BsdfSample> sample(const Vec3& wo_local, double u1, double u2) const {
-    return dispatch([&](const auto& b) { return b.sample(wo_local, u1, u2); });
+    FURNACE_CHECK(!transmits_ && "a dielectric's sample needs u_lobe");
+    return sample(wo_local, u1, u2, 0.5);
+  }
+  // (u1, u2) drive the lobe's warp; u_lobe chooses between a dielectric's lobes.
+  std::optional<BsdfSample> sample(const Vec3& wo_local, double u1, double u2, double u_lobe) const {
+    return dispatch([&](const auto& b) {
+      if constexpr (std::is_same_v<std::decay_t<decltype(b)>, DielectricBsdf>) return b.sample(wo_local, u1, u2, u_lobe);
+      else return b.sample(wo_local, u1, u2);
+    });
   }
   double pdf(const Vec3& wo_local, const Vec3& wi_local) const {
     return dispatch([&](const auto& b) { return b.pdf(wo_local, wi_local); });
@@ -141,6 +176,8 @@ class Bsdf {
 
   AnyBsdf bsdf_;
   bool black_ = true;
+  bool delta_ = false;
+  bool transmits_ = false;
 };
 
 inline Vec3 reflect_about_normal(const Vec3& w_local) { return {-w_local.x, -w_local.y, w_local.z}; }

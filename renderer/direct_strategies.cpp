@@ -19,7 +19,7 @@ DirectionSample local_direction_sample(const ShadingContext& ctx, const Vec3& wi
   DirectionSample s;
   s.wi_world = ctx.frame.world_from_local(wi_local);
   s.pdf_solid_angle = pdf_solid_angle;
-  s.weight = ctx.bsdf.eval(ctx.wo_local, wi_local) * std::fmax(wi_local.z, 0.0) / pdf_in_weight(pdf_solid_angle, defect);
+  s.weight = ctx.bsdf.eval(ctx.wo_local, wi_local) * std::fabs(wi_local.z) / pdf_in_weight(pdf_solid_angle, defect);
   return s;
 }
 
@@ -48,12 +48,13 @@ double CosineHemisphereStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_w
 }
 
 std::optional<DirectionSample> BsdfStrategy::sample(const ShadingContext& ctx, const Uniform3& u) const {
-  const auto b = ctx.bsdf.sample(ctx.wo_local, u[1], u[2]);
+  const auto b = ctx.bsdf.sample(ctx.wo_local, u[1], u[2], u[0]);
   if (!b) return std::nullopt;
   DirectionSample s;
   s.wi_world = ctx.frame.world_from_local(b->wi_local);
   s.pdf_solid_angle = b->pdf_solid_angle;
   s.delta = b->delta;
+  s.radiance_scale = b->radiance_scale;
   // DEFECT(pdf_off_by_constant) for non-delta samples: weight·pdf/(1.1·pdf).
   s.weight = (!s.delta && defect == Defect::kPdfOffByConstant) ? b->weight / kDefectPdfFactor : b->weight;
   return s;

@@ -33,17 +33,20 @@ struct ShadingContext {
   Vec3 wo_local;
   Bsdf bsdf;
 
-  // `defect`: a negative control that lives in the BSDF (none by default).
+  // `defect`: a negative control that lives in the BSDF (none by default);
+  // `convention`: how a dielectric scales the radiance it transmits.
   static ShadingContext at(const SurfaceHit& hit, const Vec3& wo_world, const Material& material,
-                           Defect defect = Defect::kNone) {
+                           Defect defect = Defect::kNone,
+                           TransportConvention convention = TransportConvention::kRadiance) {
     ShadingContext c;
     c.object = hit.object;
     c.point = hit.point;
     c.normal = hit.normal;
-    c.frame = Frame::from_normal(dot(hit.normal, wo_world) >= 0 ? hit.normal : -hit.normal);
+    const bool in_front = dot(hit.normal, wo_world) >= 0;
+    c.frame = Frame::from_normal(in_front ? hit.normal : -hit.normal);
     c.wo_world = wo_world;
     c.wo_local = c.frame.local_from_world(wo_world);
-    c.bsdf = Bsdf(material, defect);
+    c.bsdf = Bsdf(material, BsdfSetting(defect, convention, in_front));
     return c;
   }
 };
@@ -54,6 +57,7 @@ struct DirectionSample {
   double pdf_solid_angle = 0;  // the strategy's true density (0 for delta)
   double weight = 0;           // f·cos θi / pdf, see the convention above
   bool delta = false;
+  double radiance_scale = 1;   // BsdfSample::radiance_scale (BSDF sampling only)
 };
 
 // Radiance arriving along a ray of unit direction `direction` that found `hit`

@@ -10,6 +10,11 @@
 namespace furnace {
 
 namespace {
+// The density of cosine-weighted directions on both sides, |cos θ|/(2π) (sr⁻¹).
+double two_sided_cosine_pdf(const Vec3& w_local) { return std::fabs(w_local.z) * (0.5 * kInvPi); }
+}  // namespace
+
+namespace {
 
 // ---------------------------------------------------------------------------
 // Sampling one emitter, by area or by solid angle. The choice of method is a
@@ -214,7 +219,7 @@ bool LightStrategy::sample_into(const ShadingContext& ctx, const Uniform3& u, Em
     s.shadow_direction = segment / s.shadow_t_max;
     s.shadow_ends = RayEnds{ctx.object, RayEnds::kNone};  // no object to name for the end: the filter decides
     const Vec3 wi_local = ctx.frame.local_from_world(s.wi_world);
-    s.weight = ctx.bsdf.eval(ctx.wo_local, wi_local) * std::fmax(wi_local.z, 0.0) / pmf_in_weight;
+    s.weight = ctx.bsdf.eval(ctx.wo_local, wi_local) * std::fabs(wi_local.z) / pmf_in_weight;
     s.assume_visible = defect == Defect::kSkipShadowRay;  // DEFECT(skip_shadow_ray)
     return true;
   }
@@ -227,6 +232,15 @@ bool LightStrategy::sample_into(const ShadingContext& ctx, const Uniform3& u, Em
       if (!e) return false;
       s.wi_world = e->wi_world;
       environment_pdf = e->pdf_solid_angle;
+    } else if (ctx.bsdf.transmits()) {
+      // A constant environment behind a surface that transmits: cosine-weighted
+      // directions on either side, each with probability 1/2 (u[1] picks the
+      // side and is rescaled to drive the warp).
+      const bool below = u[1] >= 0.5;
+      const Vec3 w = sample_cosine_hemisphere(below ? 2.0 * u[1] - 1.0 : 2.0 * u[1], u[2]);
+      const Vec3 wi_local = below ? Vec3{w.x, w.y, -w.z} : w;
+      s.wi_world = ctx.frame.world_from_local(wi_local);
+      environment_pdf = two_sided_cosine_pdf(wi_local);
     } else {
       // A constant environment: cosine-weighted directions (its exact density).
       const Vec3 wi_local = sample_cosine_hemisphere(u[1], u[2]);
@@ -280,7 +294,7 @@ bool LightStrategy::sample_into(const ShadingContext& ctx, const Uniform3& u, Em
   }
   if (!(s.pdf_solid_angle > 0)) return false;  // back of a one-sided light, or a grazing point
   const Vec3 wi_local = ctx.frame.local_from_world(s.wi_world);
-  s.weight = ctx.bsdf.eval(ctx.wo_local, wi_local) * std::fmax(wi_local.z, 0.0) / pdf_in_weight(pdf_for_weight, defect);
+  s.weight = ctx.bsdf.eval(ctx.wo_local, wi_local) * std::fabs(wi_local.z) / pdf_in_weight(pdf_for_weight, defect);
   // DEFECT(skip_shadow_ray): every light sample is taken as visible.
   s.assume_visible = defect == Defect::kSkipShadowRay;
   return true;
@@ -298,7 +312,8 @@ double LightStrategy::pdf(const ShadingContext& ctx, const Vec3& wi_world, const
     if (!lights->environment) return 0.0;
     const double pmf = lights->pmf(lights->count() - 1);
     if (const EnvironmentSampler* map = lights->environment_sampler.get()) return pmf * map->pdf_solid_angle(wi_world);
-    return pmf * cosine_hemisphere_pdf(ctx.frame.local_from_world(wi_world));
+    const Vec3 wi_local = ctx.frame.local_from_world(wi_world);
+    return pmf * (ctx.bsdf.transmits() ? two_sided_cosine_pdf(wi_local) : cosine_hemisphere_pdf(wi_local));
   }
   const size_t light = lights->light_of_object(hit->object);
   const double pmf = lights->pmf(light);

@@ -22,7 +22,8 @@ PathTracer::PathTracer(const EmbreeScene& scene, const LightSet& lights, const R
       segment_cap_(needs_path_segment_cap(scene.scene(), options.max_depth, options.roulette_depth)
                        ? kOpenScenePathSegmentCap
                        : options.max_depth),
-      defect_(options.defect) {
+      defect_(options.defect),
+      convention_(options.convention) {
   light_.scene = &scene;
   light_.lights = &lights;
   light_.emitter_sampling = EmitterSampling::kSolidAngle;
@@ -35,6 +36,10 @@ double PathTracer::radiance(const Vec3& direction, const std::optional<SurfaceHi
   const Scene& scene = scene_.scene();
   double radiance = 0;
   double throughput = 1;
+  // The product of the transport convention's factors in throughput (a
+  // dielectric's 1/η′² per transmission): roulette judges throughput/scale,
+  // so a path inside glass is not killed for carrying η² more radiance.
+  double radiance_scale = 1;
   std::optional<SurfaceHit> hit = first_hit;
   Vec3 wi_world = direction;
   // The vertex the current segment left from, for MIS of emission found by BSDF sampling.
@@ -60,7 +65,7 @@ double PathTracer::radiance(const Vec3& direction, const std::optional<SurfaceHi
                               scene.source.empty() ? scene.name : scene.source, segment_cap_));
 
     const Object& object = scene.objects[hit->object];
-    const ShadingContext ctx = ShadingContext::at(*hit, -wi_world, object.material, defect_);
+    const ShadingContext ctx = ShadingContext::at(*hit, -wi_world, object.material, defect_, convention_);
     if (ctx.bsdf.is_black()) break;
 
     if (next_event_ && !ctx.bsdf.is_delta()) {
@@ -78,9 +83,10 @@ double PathTracer::radiance(const Vec3& direction, const std::optional<SurfaceHi
     const auto s = bsdf_.sample(ctx, next_uniform3(rng));
     if (!s || s->weight == 0) break;
     throughput *= s->weight;
+    radiance_scale *= s->radiance_scale;
 
     if (depth >= roulette_depth_) {
-      const double survive = std::min(1.0, throughput);
+      const double survive = std::min(1.0, throughput / radiance_scale);
       if (!(rng.next_double() < survive)) break;
       // Unbiased: E[throughput'] = throughput. DEFECT(roulette_no_reweight) skips the division.
       if (defect_ != Defect::kRouletteNoReweight) throughput /= survive;

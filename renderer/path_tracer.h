@@ -7,7 +7,9 @@
 //    continuation is weighted against the light density by the power
 //    heuristic, emission found by light sampling against the BSDF density.
 // Russian roulette from RenderOptions::roulette_depth with survival
-// probability min(1, throughput), survivors reweighted by 1/p; paths end at
+// probability min(1, throughput/η-scale), survivors reweighted by 1/p (the
+// η-scale is the product of the radiance convention's 1/η′² factors in the
+// throughput, as pbrt-v4's etaScale); paths end at
 // RenderOptions::max_depth segments (the camera segment is segment 1). A
 // path of a scene whose expected length has no bound (core/path_length.h)
 // throws furnace::Error at kOpenScenePathSegmentCap segments.
@@ -38,6 +40,7 @@ class PathTracer {
   int roulette_depth_;
   int segment_cap_;  // kOpenScenePathSegmentCap, or max_depth_ when the scene's bound needs no cap
   Defect defect_;  // DEFECT(roulette_no_reweight), DEFECT(double_count_emission) in path_tracer.cpp
+  TransportConvention convention_;
   LightStrategy light_;
   BsdfStrategy bsdf_;
 };

@@ -98,6 +98,13 @@ std::vector<Image> render_sharing_samples(const Scene& scene, const RenderOption
     if (samples_lights(strategy) && lights.count() == 0)
       throw Error(fmt::format("scene '{}' has no emitter and no environment, so strategy '{}' has no light to sample.",
                               scene.source.empty() ? scene.name : scene.source, strategy_name(strategy)));
+    if (strategy_info(strategy).viewer_side_only)
+      for (const Object& o : scene.objects)
+        if (o.material.as<Dielectric>() && o.material.reflects())
+          throw Error(fmt::format("scene '{}': strategy '{}' samples directions on the viewer's side of a surface "
+                                  "only, so it cannot see what the dielectric object '{}' transmits (use bsdf, a "
+                                  "light strategy, MIS or a path tracer).",
+                                  scene.source.empty() ? scene.name : scene.source, strategy_name(strategy), o.name));
     if (!scene.point_lights.empty() && !strategy_sees_delta_lights(strategy))
       throw Error(fmt::format("scene '{}' has point lights, which strategy '{}' cannot see (no ray hits a delta light).",
                               scene.source.empty() ? scene.name : scene.source, strategy_name(strategy)));
@@ -148,7 +155,8 @@ std::vector<Image> render_sharing_samples(const Scene& scene, const RenderOption
       const double le = emitted_radiance_towards(scene, hit, ray.direction);
       std::optional<ShadingContext> ctx;
       if (hit) {
-        ctx = ShadingContext::at(*hit, -ray.direction, scene.objects[hit->object].material, options.defect);
+        ctx = ShadingContext::at(*hit, -ray.direction, scene.objects[hit->object].material, options.defect,
+                                 options.convention);
         setups.bind(*ctx, scene.objects.size());
       }
       // Accumulated in locals, stored once: the image's element, reached

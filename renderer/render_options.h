@@ -38,6 +38,8 @@ struct RenderOptions {
   // reweighted by 1/p).
   int max_depth = kUnlimitedDepth;
   int roulette_depth = 3;
+  // How a dielectric transports the radiance it transmits (core/strategy.h).
+  TransportConvention convention = TransportConvention::kRadiance;
   // Benchmarks only: every ray the render traces is appended here, in the
   // order traced (render() then requires threads == 1).
   std::vector<TracedRay>* ray_log = nullptr;

@@ -11,6 +11,7 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include "analytic/glass.h"
 #include "analytic/global.h"
 #include "analytic/moments.h"
 #include "analytic/reference.h"
@@ -43,7 +44,10 @@ void for_each_pixel(size_t n, int threads, PerPixel per_pixel) {
 std::vector<double> reference_for(const Scene& scene, const RenderOptions& options) {
   std::vector<double> reference;
   if (is_path_tracer(options.strategy)) {
-    reference = analytic::global_reference_image(scene, options.max_depth);
+    reference = analytic::global_reference_image(scene, options.max_depth, options.convention);
+  } else if (analytic::has_dielectric(scene)) {
+    // Glass: the direct-lighting reference of glass.h, in the run's convention.
+    reference = analytic::glass_reference_image(scene, 2, options.convention, true);
   } else {
     // analytic::reference_image's pixels, computed in parallel.
     const size_t width = size_t(scene.camera.width_px);
@@ -69,12 +73,15 @@ namespace {
 
 // The keys under which AnalyticCache keeps a scene file's values.
 std::string reference_key(const Case& c) {
-  return is_path_tracer(c.options.strategy) ? fmt::format("{}|path|{}", c.scene_path, c.options.max_depth)
-                                            : c.scene_path + "|direct";
+  const std::string convention = transport_convention_name(c.options.convention);
+  return is_path_tracer(c.options.strategy)
+             ? fmt::format("{}|path|{}|{}", c.scene_path, c.options.max_depth, convention)
+             : fmt::format("{}|direct|{}", c.scene_path, convention);
 }
 std::string variance_key(const Case& c) {
-  return fmt::format("{}|{}|{}", c.scene_path, strategy_name(c.options.strategy),
-                     c.options.light_selection == LightSelection::kPower ? "power" : "uniform");
+  return fmt::format("{}|{}|{}|{}", c.scene_path, strategy_name(c.options.strategy),
+                     c.options.light_selection == LightSelection::kPower ? "power" : "uniform",
+                     transport_convention_name(c.options.convention));
 }
 
 // Predicted per-pixel variances E[Y²] − E² of N estimators, `second_moments(px,
@@ -106,6 +113,19 @@ std::array<std::vector<double>, N> compute_variances(const Case& c, const Scene&
 std::vector<double> compute_predicted_variance(const Case& c, const Scene& scene,
                                                const std::vector<double>& reference) {
   if (!has_variance_model(c.options.strategy)) return {};
+  if (analytic::has_dielectric(scene)) {
+    // Glass (glass.h): the whole image at once, or mean tests only where it is not modelled.
+    try {
+      std::vector<double> v = analytic::glass_second_moment_image(scene, c.options.strategy, c.options.convention);
+      for (size_t i = 0; i < v.size(); ++i) {
+        const double e2 = reference[i] * reference[i];
+        v[i] = v[i] - e2 <= kPredictedVarianceRoundOff * e2 ? 0.0 : v[i] - e2;
+      }
+      return v;
+    } catch (const Error&) {
+      return {};
+    }
+  }
   return std::move(compute_variances<1>(c, scene, reference, [&](int px, int py) {
     return std::array<double, 1>{
         analytic::pixel_center_second_moment(c.options.strategy, scene, px, py, c.options.light_selection)};

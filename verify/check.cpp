@@ -261,11 +261,11 @@ std::vector<WorstPixel> worst_pixels(std::vector<Candidate> candidates, const st
 
 }  // namespace
 
-CheckReference check_reference(const Scene& scene, std::optional<int> max_depth) {
+CheckReference check_reference(const Scene& scene, std::optional<int> max_depth, TransportConvention convention) {
   CheckReference r;
   const int depth = max_depth.value_or(kUnlimitedDepth);
   try {
-    r.values = analytic::global_reference_image(scene, depth);
+    r.values = analytic::global_reference_image(scene, depth, convention);
     r.global = true;
     r.max_segments = depth;
     r.description = fmt::format("global illumination, max depth {}", depth_name(depth));

@@ -76,7 +76,10 @@ struct CheckReference {
 // lighting. Given: the global answer at that depth; where the scene has no
 // closed form, depth 2 is direct lighting (emission + one bounce, the same
 // quantity), and any other depth is bad input (furnace::Error).
-CheckReference check_reference(const Scene& scene, std::optional<int> max_depth);
+// `convention`: the checked renderer's transport convention (what a scene
+// with a dielectric depends on).
+CheckReference check_reference(const Scene& scene, std::optional<int> max_depth,
+                               TransportConvention convention = TransportConvention::kRadiance);
 
 enum class CheckVerdict { kPass, kFail, kInconclusive };
 std::string verdict_name(CheckVerdict v);  // "PASS", "FAIL", "INCONCLUSIVE"

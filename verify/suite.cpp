@@ -49,6 +49,9 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
   const std::vector<Strategy> ggx_sky_strips =
       without(everything, {Strategy::kUniformHemisphere, Strategy::kBsdf, Strategy::kPathNaive});
   const std::vector<Strategy> ggx_disk = without(everything, {Strategy::kUniformHemisphere});
+  const std::vector<Strategy> glass_rough =
+      without(everything, {Strategy::kUniformHemisphere, Strategy::kCosineHemisphere, Strategy::kLightArea});
+  const std::vector<Strategy> glass_delta = without(glass_rough, {Strategy::kLightSolidAngle});
   std::vector<Strategy> glossy_sphere_paths = glossy_sphere;
   glossy_sphere_paths.insert(glossy_sphere_paths.end(), paths.begin(), paths.end());
   const std::vector<Entry> entries = {
@@ -97,6 +100,29 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
       // (at 78° it detects only 14–21 % biases, most pixels untested): left out.
       {"ggx_oblique_sphere_60.json", glossy_sphere_paths, kUnlimitedDepth},
       {"ggx_oblique_sphere_78.json", glossy_sphere_paths, kUnlimitedDepth},
+      // Glass (dielectrics, glass.h's references). Smooth interfaces are delta
+      // lobes: the strategies that sample the BSDF (bsdf, MIS, path
+      // tracers); light_area and light_solid_angle alone cannot find a delta
+      // lobe. A single interface in a constant environment, seen from
+      // outside at 60°, from inside at 60° (total internal reflection: L
+      // exactly, zero variance) and at 30°; rough strips α 0.1 … 1 in both
+      // Smith forms from outside at 60° and inside at 45° (light sampling
+      // and MIS are what see a transmission f and pdf that lack η², pbrt-v4
+      // before dfa11074; the two-sided cosine environment sampling makes
+      // light_area the same as light_solid_angle here). The smooth sphere:
+      // L_env exactly at unlimited depth, 1 − T·R^(K+1) at depth 4 (K = 1).
+      {"glass_smooth_outside_60.json", glass_delta, kUnlimitedDepth},
+      {"glass_smooth_inside_60.json", glass_delta, kUnlimitedDepth},
+      {"glass_smooth_inside_30.json", glass_delta, kUnlimitedDepth},
+      {"glass_rough_outside_60.json", glass_rough, kUnlimitedDepth},
+      {"glass_rough_inside_45.json", glass_rough, kUnlimitedDepth},
+      {"glass_sphere.json", glass_delta, kUnlimitedDepth},
+      {"glass_sphere.json", paths, 4},
+      // GGX conductors with exact Fresnel (complex index, analytic/fresnel.h):
+      // gold-like (0.2 + 3.4i) and low-k (1.5 + 0.1i, where Cycles' old
+      // approximation was 0.096 off) strips, as the GGX oblique scenes.
+      {"conductor_fresnel_sky_60.json", everything, kUnlimitedDepth},
+      {"conductor_fresnel_sphere_60.json", glossy_sphere_paths, kUnlimitedDepth},
       // Hard cases, each there for one bug class (README, "The built-in suite").
       // Receivers and camera rays that see the backs of one-sided lights.
       {"back_facing_emitters.json", everything, kUnlimitedDepth},

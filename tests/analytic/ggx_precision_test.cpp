@@ -658,7 +658,7 @@ Scene scene_of(const Case& k) {
   Scene scene;
   scene.name = "ggx_precision";
   scene.source = "ggx_precision_test";
-  const Material m{kAlbedo, Ggx{k.alpha, k.shadowing}};
+  const Material m{kAlbedo, Ggx{k.alpha, k.shadowing, std::nullopt}};
   scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, m, 0});
   if (k.environment) scene.environment.radiance = kSkyRadiance;
   else if (k.planar) scene.objects.push_back({"light", *k.planar, {}, kPlanarRadiance});

@@ -179,7 +179,7 @@ Scene ggx_scene(double alpha, MicrofacetShadowing form, bool environment) {
   Scene scene;
   scene.name = "ggx_test";
   scene.source = "ggx_test";
-  const Material m{0.8, Ggx{alpha, form}};
+  const Material m{0.8, Ggx{alpha, form, std::nullopt}};
   scene.objects.push_back({"floor", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}}, m, 0});
   if (environment) scene.environment.radiance = 1.5;
   else scene.objects.push_back({"light", Sphere{{1.0, 0.05, 0.9}, 0.3}, {}, 4.0});

@@ -28,7 +28,7 @@ Scene enclosure(double albedo, bool closed = true, BsdfType type = BsdfType::kLa
   o.name = "shell";
   o.shape = Sphere{{0, 0, 0}, 1.0};
   o.material = Material{albedo, default_parameters(type)};
-  if (type == BsdfType::kGgx) o.material.bsdf = Ggx{0.5};
+  if (type == BsdfType::kGgx) o.material.bsdf = Ggx{0.5, MicrofacetShadowing::kHeightCorrelated, std::nullopt};
   if (type == BsdfType::kPhong) o.material.bsdf = Phong{10};
   o.emitted_radiance = 1.5;
   o.two_sided = true;

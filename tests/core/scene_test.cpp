@@ -55,6 +55,7 @@ const char* expected_bsdf_word(BsdfType type) {
     case BsdfType::kMirror: return "mirror";
     case BsdfType::kPhong: return "phong";
     case BsdfType::kGgx: return "ggx";
+    case BsdfType::kDielectric: return "dielectric";
   }
   return "";
 }
@@ -64,7 +65,7 @@ std::string with_floor_material(const std::string& word) {
   std::string json = kValid;
   const std::string from = R"("material": {"type": "lambertian")";
   json.replace(json.find(from), from.size(), R"("material": {"type": ")" + word + "\"" +
-                                                  (word == "ggx" ? R"(, "alpha": 0.5)" : ""));
+                                                  (word == "ggx" ? R"(, "alpha": 0.5)" : word == "dielectric" ? R"(, "eta": 1.5)" : ""));
   return json;
 }
 
@@ -107,7 +108,7 @@ TEST(BsdfTypeNames, AnUnknownWordIsRefusedListingTheTable) {
   } catch (const Error& e) {
     const std::string message = e.what();
     EXPECT_NE(message.find("objects[0].material.type"), std::string::npos) << message;
-    EXPECT_NE(message.find("must be one of lambertian, mirror, phong, ggx, got \"gxx\""), std::string::npos) << message;
+    EXPECT_NE(message.find("must be one of lambertian, mirror, phong, ggx, dielectric, got \"gxx\""), std::string::npos) << message;
   }
 }
 

@@ -124,8 +124,12 @@ std::optional<ScriptMaterial> expected_material(const Object& o) {
       return std::nullopt;
     case BsdfType::kGgx:  // roughness √α; a height-correlated surface only where the forms agree (else refused)
       if (o.material.albedo == 0) return ScriptMaterial{0, false};
+      if (std::get<Ggx>(o.material.bsdf).fresnel) return std::nullopt;  // not written yet: refused
       return ScriptMaterial{o.material.albedo, false,
                             fmt::format("('GGX', {})", std::sqrt(std::get<Ggx>(o.material.bsdf).alpha))};
+    case BsdfType::kDielectric:  // not written yet: refused (a black one is a black diffuse surface)
+      if (o.material.albedo == 0) return ScriptMaterial{0, false};
+      return std::nullopt;
   }
   return std::nullopt;
 }

@@ -134,10 +134,13 @@ std::optional<std::string> expected_material(const Material& m) {
       return std::nullopt;
     case BsdfType::kGgx:  // albedo 1 only, in a scene whose Smith form pbrt has (refused elsewhere)
       if (m.albedo == 0) return diffuse(0);
-      if (m.albedo != 1) return std::nullopt;
+      if (m.albedo != 1 || std::get<Ggx>(m.bsdf).fresnel) return std::nullopt;  // Fresnel: not written yet
       return fmt::format("Material \"conductor\" \"spectrum eta\" [300 0 900 0] \"spectrum k\" [300 1 900 1] "
                          "\"float roughness\" {} \"bool remaproughness\" false",
                          std::get<Ggx>(m.bsdf).alpha);
+    case BsdfType::kDielectric:  // not written yet: refused (a black one is a black diffuse surface)
+      if (m.albedo == 0) return diffuse(0);
+      return std::nullopt;
   }
   return std::nullopt;
 }

@@ -269,6 +269,44 @@ TEST(Cli, LeadingZerosAreDecimal) {
   std::filesystem::remove_all(dir);
 }
 
+// A hemisphere strategy cannot see what glass transmits: refused with the
+// object's name (exit 2), never a silently dark image.
+TEST(Cli, HemisphereStrategyIsRefusedOnGlass) {
+  const auto dir = temp_dir();
+  const Result r = run_cli("render --scene " + std::string(FURNACE_SCENE_DIR) +
+                           "/glass_smooth_outside_60.json --strategy uniform_hemisphere --spp 4 --output " +
+                           (dir / "glass.exr").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("dielectric object 'interface'"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "glass.exr"));
+  std::filesystem::remove_all(dir);
+}
+
+// --convention on render and check: renders of an open glass interface in
+// the none convention (Cycles') pass check in that convention and fail in
+// the radiance convention (pbrt-v4's), which divides what is transmitted by
+// η² (E_R + E_T against E_R + E_T/2.25 here: 0.88 against 0.44).
+TEST(Cli, ConventionOfRenderAndCheckMustAgree) {
+  const auto dir = temp_dir();
+  const std::string scene = std::string(FURNACE_SCENE_DIR) + "/glass_rough_outside_60.json";
+  std::string images;
+  for (int seed = 1; seed <= 4; ++seed) {
+    const std::string out = (dir / ("none" + std::to_string(seed) + ".exr")).string();
+    const Result r = run_cli("render --scene " + scene + " --strategy bsdf --convention none --spp 1024 --seed " +
+                             std::to_string(seed) + " --output " + out);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    images += " " + out;
+  }
+  const Result same = run_cli("check --scene " + scene + " --convention none --image" + images);
+  EXPECT_EQ(same.exit_code, 0) << same.output;
+  const Result other = run_cli("check --scene " + scene + " --convention radiance --image" + images);
+  EXPECT_EQ(other.exit_code, 1) << other.output;
+  const Result bad = run_cli("check --scene " + scene + " --convention importance --image" + images);
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("radiance"), std::string::npos) << bad.output;
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Cli, InjectedDefectMakesVerifyFail) {
   const Result r = run_cli("verify --strategy light_area --defect drop_light_cosine --spp 256");
   EXPECT_EQ(r.exit_code, 1) << r.output;

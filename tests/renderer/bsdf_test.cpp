@@ -33,7 +33,7 @@ struct MaterialCase {
 void PrintTo(const MaterialCase& c, std::ostream* os) { *os << c.name; }
 
 Material make_ggx(double albedo, double alpha, MicrofacetShadowing shadowing) {
-  return Material{albedo, Ggx{alpha, shadowing}};
+  return Material{albedo, Ggx{alpha, shadowing, std::nullopt}};
 }
 
 Vec3 wo_at(double theta_deg) {

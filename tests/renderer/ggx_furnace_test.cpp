@@ -59,7 +59,7 @@ Scene ggx_floor(MicrofacetShadowing shadowing, double view_deg, double alpha = 1
   scene.camera.width = scene.camera.height = 0.1;
   scene.camera.center = -2.0 * scene.camera.forward;
   Object floor = testing_support::make_floor(kRho);
-  floor.material.bsdf = Ggx{alpha, shadowing};
+  floor.material.bsdf = Ggx{alpha, shadowing, std::nullopt};
   scene.objects.push_back(floor);
   scene.environment.radiance = kEnvironment;
   return scene;

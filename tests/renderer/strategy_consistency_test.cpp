@@ -266,7 +266,7 @@ class StrategyConsistencyGgx : public testing::TestWithParam<std::tuple<std::str
 
 TEST_P(StrategyConsistencyGgx, PdfOfSampledDirectionAndWeightAgree) {
   const auto& [file, alpha, shadowing] = GetParam();
-  Material ggx{0.8, Ggx{alpha, shadowing}};
+  Material ggx{0.8, Ggx{alpha, shadowing, std::nullopt}};
   const World w(file, &ggx);
   for (Strategy s : kStrategies) {
     const Counts c = check(w, s, Defect::kNone);

@@ -1,0 +1,281 @@
+// Glass scenes' references (glass.h): the directional albedos of a
+// dielectric interface and the two kinds of scene.
+#include "analytic/glass.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <tuple>
+
+#include <fmt/format.h>
+
+#include "analytic/fresnel.h"
+#include "analytic/reference.h"
+#include "core/adaptive_quadrature.h"
+#include "core/error.h"
+#include "core/vec3.h"
+
+namespace furnace::analytic {
+
+namespace {
+
+// Smith Λ of GGX at cos θ = mu > 0 (|cos| for a direction below), cancellation-free.
+double lambda_ggx(double alpha, double mu) {
+  mu = std::fabs(mu);
+  if (!(mu > 0)) return std::numeric_limits<double>::infinity();
+  const double a = alpha * alpha * (1 - mu) * (1 + mu) / (mu * mu);
+  return a / (2 * (std::sqrt(1 + a) + 1));
+}
+
+double g2_over_g1o(MicrofacetShadowing shadowing, double lambda_o, double lambda_i) {
+  // G2/G1(ωo): separable G1(ωi); height-correlated (1 + Λo)/(1 + Λo + Λi).
+  if (shadowing == MicrofacetShadowing::kSeparable) return 1 / (1 + lambda_i);
+  return (1 + lambda_o) / (1 + lambda_o + lambda_i);
+}
+
+struct Lobes {
+  double reflection = 0, transmission = 0;        // the weights' sums, G2/G1 each
+  double reflection2 = 0, transmission2 = 0;      // their squares' sums
+};
+
+// The lobe terms at one microfacet normal m (unit, m_z > 0) for the view
+// wo = (sin θo, 0, μ): F·G2/G1 where the reflection stays above, (1 − F)·G2/G1
+// where the refraction goes below, and the same with (G2/G1)².
+Lobes lobes_at(const Vec3& wo, const Vec3& m, double eta, double alpha, MicrofacetShadowing shadowing,
+               double lambda_o) {
+  Lobes out;
+  const double c = dot(wo, m);
+  if (!(c > 0)) return out;
+  const double f = fresnel_dielectric_reference(c, eta);
+  // Reflection: ωr = 2(ωo·m)m − ωo.
+  const double r_z = 2 * c * m.z - wo.z;
+  if (r_z > 0 && f > 0) {
+    const double w = g2_over_g1o(shadowing, lambda_o, lambda_ggx(alpha, r_z));
+    out.reflection = f * w;
+    out.reflection2 = f * w * w;
+  }
+  // Refraction (Snell at m): ωt = −ωo/η + (c/η − cos θt)·m, cos θt = √(η² − 1 + c²)/η.
+  const double radicand = (eta - 1) * (eta + 1) + c * c;
+  if (radicand > 0 && f < 1) {
+    const double ct = std::sqrt(radicand) / eta;
+    const double t_z = -wo.z / eta + (c / eta - ct) * m.z;
+    if (t_z < 0) {
+      const double w = g2_over_g1o(shadowing, lambda_o, lambda_ggx(alpha, t_z));
+      out.transmission = (1 - f) * w;
+      out.transmission2 = (1 - f) * w * w;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+double transmission_scale(double eta, TransportConvention convention) {
+  return convention == TransportConvention::kRadiance ? 1 / (eta * eta) : 1.0;
+}
+
+InterfaceAlbedo dielectric_interface_albedo(const Dielectric& d, double eta, double mu,
+                                            TransportConvention convention) {
+  FURNACE_CHECK(mu > 0 && mu <= 1 && eta > 0 && eta != 1);
+  const double s = transmission_scale(eta, convention);
+  InterfaceAlbedo out;
+  if (d.smooth()) {
+    const double r = fresnel_dielectric_reference(mu, eta);
+    out.reflection = r;
+    out.transmission = 1 - r;
+    out.second_moment = r + (1 - r) * s * s;
+    return out;
+  }
+  const double alpha = d.alpha;
+  const double sin_o = std::sqrt((1 - mu) * (1 + mu));
+  const Vec3 wo{sin_o, 0, mu};
+  const double lambda_o = lambda_ggx(alpha, mu);
+  const double g1o = 1 / (1 + lambda_o);
+  // For η < 1, k = 1 − η²: total internal reflection at ωo·m = c below √k.
+  const double k = eta < 1 ? (1 - eta) * (1 + eta) : 0.0;
+  // The integrand at (v, φ), w = 1 − v² (dw = 2v dv, which cancels the
+  // 1/√(1 − w) of tan θm at the rim), over φ ∈ [0, π] (twice: even in φ):
+  // G1(ωo)·max(0, ωo·m)/(μ cos θm) · lobe terms · 2v dv dφ/(2π).
+  struct Normal {
+    double cos_m, sin_m;
+  };
+  const auto normal_at = [&](double v) {
+    const double w = 1 - v * v;
+    const double denom = std::sqrt(v * v + alpha * alpha * w);  // √(1 − w + α²w)
+    return Normal{v / denom, alpha * std::sqrt(w) / denom};
+  };
+  const auto at = [&](const Normal& n, double v, double phi, int which) {
+    const Vec3 m{n.sin_m * std::cos(phi), n.sin_m * std::sin(phi), n.cos_m};
+    const double c = dot(wo, m);
+    if (!(c > 0) || !(n.cos_m > 0)) return 0.0;
+    const Lobes l = lobes_at(wo, m, eta, alpha, d.shadowing, lambda_o);
+    const double value =
+        which == 0 ? l.reflection : which == 1 ? l.transmission : l.reflection2 + l.transmission2 * s * s;
+    // The 2v of dw over cos θm = v/√(1 − w + α²w): 2√(1 − w + α²w).
+    return g1o * c / mu * value * 2 * std::sqrt(v * v + alpha * alpha * (1 - v * v)) / kPi;
+  };
+  // Along φ at fixed θm, c = ωo·m = A cos φ + B falls monotonically, and
+  // every place where the integrand jumps or kinks is a value of c: c = 0
+  // (the visible normals' rim), c = μ/(2 cos θm) (the reflection reaches
+  // the horizon), and for η < 1 c = √k (total internal reflection; F has a
+  // square-root kink there) and c = (q² + k)/(2q), q = μ/cos θm (the
+  // refraction reaches the horizon: (c − √(c² − k))·cos θm = μ). The φ
+  // range is split at those, so each piece is smooth for the rule.
+  const auto inner = [&](double v, int which) {
+    const Normal n = normal_at(v);
+    const double a = sin_o * n.sin_m, b = mu * n.cos_m;
+    std::vector<double> cuts{0.0, kPi};
+    const auto cut_at = [&](double c) {
+      if (!(a > 0)) return;
+      const double x = (c - b) / a;
+      if (x > -1 && x < 1) cuts.push_back(std::acos(x));
+    };
+    cut_at(0.0);
+    cut_at(mu / (2 * n.cos_m));
+    if (eta < 1) {
+      cut_at(std::sqrt(k));
+      const double q = mu / n.cos_m;
+      cut_at((q * q + k) / (2 * q));
+    }
+    std::sort(cuts.begin(), cuts.end());
+    double sum = 0;
+    for (size_t i = 0; i + 1 < cuts.size(); ++i)
+      if (cuts[i + 1] > cuts[i])
+        sum += adaptive_gauss_kronrod([&](double phi) { return at(n, v, phi, which); }, cuts[i], cuts[i + 1],
+                                      kGlassQuadratureTolerance * 1e-3, 16);
+    return sum;
+  };
+  const auto integral = [&](int which) {
+    return adaptive_gauss_kronrod([&](double v) { return inner(v, which); }, 0.0, 1.0, kGlassQuadratureTolerance, 20);
+  };
+  out.reflection = integral(0);
+  out.transmission = integral(1);
+  out.second_moment = integral(2);
+  return out;
+}
+
+bool has_dielectric(const Scene& scene) {
+  for (const Object& o : scene.objects)
+    if (o.material.as<Dielectric>()) return true;
+  return false;
+}
+
+std::optional<std::string> glass_scene_refusal(const Scene& scene) {
+  if (!scene.point_lights.empty()) return "it has point lights";
+  if (scene.environment.map) return "its environment is a map, not constant";
+  if (scene.closed) return "it is closed";
+  if (scene.objects.empty()) return "it has no object";
+  for (const Object& o : scene.objects) {
+    if (o.is_emitter()) return fmt::format("object '{}' emits", o.name);
+    if (!o.material.as<Dielectric>()) return fmt::format("object '{}' is not a dielectric", o.name);
+  }
+  if (scene.objects.size() == 1 && std::holds_alternative<Sphere>(scene.objects[0].shape)) {
+    if (!scene.objects[0].material.as<Dielectric>()->smooth()) return "its glass sphere is rough";
+    return std::nullopt;
+  }
+  // Planar, all in one plane.
+  std::optional<Plane> first;
+  for (const Object& o : scene.objects) {
+    const std::optional<Plane> plane = plane_of(o.shape);
+    if (!plane) return fmt::format("object '{}' is a sphere beside other objects", o.name);
+    if (!first) {
+      first = plane;
+      continue;
+    }
+    const double scale = std::fmax(1.0, max_abs_component(plane->point));
+    if (length(cross(plane->normal, first->normal)) > 1e-13 ||
+        std::fabs(dot(plane->point - first->point, first->normal)) > 1e-13 * scale)
+      return fmt::format("object '{}' is not in the plane of '{}'", o.name, scene.objects[0].name);
+  }
+  return std::nullopt;
+}
+
+namespace {
+
+[[noreturn]] void refuse(const Scene& scene, const std::string& reason) {
+  throw Error(fmt::format("scene '{}' ({}) has no exact glass reference: {}.", scene.name, scene.source, reason));
+}
+
+// The interface albedos met so far, by (object, side, μ): an orthographic
+// camera meets a plane at one angle, so a planar scene needs one quadrature
+// per object and side.
+using AlbedoMemo = std::map<std::tuple<size_t, bool, double>, InterfaceAlbedo>;
+
+// The value of one pixel centre's ray.
+double glass_pixel(const Scene& scene, const Vec3& origin, const Vec3& direction, int max_segments,
+                   TransportConvention convention, bool direct_only, bool second_moment, AlbedoMemo& memo) {
+  const double l_env = scene.environment.radiance;
+  const std::optional<Hit> hit = intersect(scene, origin, direction);
+  if (!hit) return second_moment ? l_env * l_env : l_env;
+  if (max_segments < 2) return 0.0;
+  const Object& o = scene.objects[hit->object_index];
+  const Dielectric& d = *o.material.as<Dielectric>();
+  const double a = o.material.albedo;
+  const double cos_view = dot(direction, hit->normal);
+  const bool in_front = cos_view < 0;
+  const double eta = in_front ? d.eta : 1 / d.eta;
+  const double mu = std::fabs(cos_view) / length(direction);
+  if (std::holds_alternative<Sphere>(o.shape)) {
+    if (!in_front) refuse(scene, "a camera ray starts inside the glass sphere");
+    const double r = fresnel_dielectric_reference(mu, eta);
+    const double t = 1 - r;
+    // Direct lighting: a reflection (weight a) sees L, a refraction sees the non-emitting inside.
+    if (second_moment) return a * a * l_env * l_env * r;
+    if (direct_only) return a * r * l_env;
+    const double ar = a * r;
+    // Σ_{k=0}^{K} (aR)^k = (1 − (aR)^{K+1})/(1 − aR), K = S − 3 (−1 for S = 2: an empty sum).
+    double sum = 0;
+    if (max_segments == kUnlimitedDepth) {
+      sum = 1 / (1 - ar);
+    } else {
+      const int k_plus_1 = max_segments - 2;
+      sum = ar == 0 ? (k_plus_1 > 0 ? 1.0 : 0.0) : -std::expm1(double(k_plus_1) * std::log(ar)) / (1 - ar);
+    }
+    return l_env * (ar + a * a * t * t * sum);
+  }
+  const auto key = std::make_tuple(hit->object_index, in_front, mu);
+  auto it = memo.find(key);
+  if (it == memo.end()) it = memo.emplace(key, dielectric_interface_albedo(d, eta, mu, convention)).first;
+  const InterfaceAlbedo& e = it->second;
+  if (second_moment) return a * a * l_env * l_env * e.second_moment;
+  return a * l_env * (e.reflection + transmission_scale(eta, convention) * e.transmission);
+}
+
+}  // namespace
+
+std::vector<double> glass_reference_image(const Scene& scene, int max_segments, TransportConvention convention,
+                                          bool direct_only) {
+  if (auto reason = glass_scene_refusal(scene)) refuse(scene, *reason);
+  if (max_segments < 1) throw Error(fmt::format("max_segments must be at least 1, got {}.", max_segments));
+  const Camera& camera = scene.camera;
+  std::vector<double> image(size_t(camera.width_px) * size_t(camera.height_px));
+  AlbedoMemo memo;
+  for (int py = 0; py < camera.height_px; ++py)
+    for (int px = 0; px < camera.width_px; ++px) {
+      const Camera::Ray ray = camera.pixel_center_ray(px, py);
+      image[size_t(py) * camera.width_px + px] = glass_pixel(scene, ray.origin, ray.direction,
+                                                             direct_only ? 2 : max_segments, convention, direct_only,
+                                                             false, memo);
+    }
+  return image;
+}
+
+std::vector<double> glass_second_moment_image(const Scene& scene, Strategy strategy, TransportConvention convention) {
+  if (auto reason = glass_scene_refusal(scene)) refuse(scene, *reason);
+  if (strategy != Strategy::kBsdf)
+    refuse(scene, fmt::format("the second moment of strategy '{}' at a dielectric is not modelled",
+                              strategy_name(strategy)));
+  const Camera& camera = scene.camera;
+  std::vector<double> image(size_t(camera.width_px) * size_t(camera.height_px));
+  AlbedoMemo memo;
+  for (int py = 0; py < camera.height_px; ++py)
+    for (int px = 0; px < camera.width_px; ++px) {
+      const Camera::Ray ray = camera.pixel_center_ray(px, py);
+      image[size_t(py) * camera.width_px + px] =
+          glass_pixel(scene, ray.origin, ray.direction, 2, convention, true, true, memo);
+    }
+  return image;
+}
+
+}  // namespace furnace::analytic

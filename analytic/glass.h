@@ -1,0 +1,96 @@
+// Exact answers for dielectric (glass) scenes in a constant environment,
+// written from the definitions (Walter et al. 2007; Veach 1997 ch. 5),
+// independently of renderer/dielectric.cpp: the Fresnel forms of
+// analytic/fresnel.h, the microfacet terms and the refraction computed here.
+//
+// Two kinds of scene, no emitter, no point light, a constant environment of
+// radiance L, every object a dielectric of albedo a (a constant factor on
+// both lobes):
+//
+// 1. One smooth sphere, every camera ray starting outside it. A ray meeting
+//    it at incidence θ reflects with R = F(cos θ, η) or enters; inside, every
+//    chord meets the surface again at the refracted angle θt, where the
+//    reflectance is again R (Fresnel symmetry F(θi; η) = F(θt; 1/η)); no
+//    total internal reflection. A path that leaves after k internal
+//    reflections crossed in and out once: the radiance convention's
+//    factors 1/η² and η² cancel, so both conventions give
+//       L_px = L·[a R + a² T² Σ_{k=0}^{K} (aR)^k],  T = 1 − R,
+//    K = S − 3 for a depth limit of S segments (the camera segment, then
+//    in, k internal reflections, out: 3 + k segments), K = ∞ unlimited;
+//    = L·(1 − T·R^{K+1}) at a = 1, L exactly at unlimited depth. S = 1: 0;
+//    S = 2: aRL. Every path returns L·a^n or 0. Direct lighting (one
+//    bounce, the interior non-emitting): a R L.
+// 2. Planar dielectrics (smooth or rough), all in one plane: a ray scattered
+//    by one leaves the plane and meets nothing else (every path has at most
+//    two segments), so direct lighting is all there is:
+//       L_px = a L (E_R + s E_T)   for S ≥ 2 (0 for S = 1),
+//    E_R, E_T the interface's directional albedos of reflection and
+//    transmission at the view (below), s = 1/η′² in the radiance convention
+//    (η′ the far side's index relative to the camera's side), 1 in none.
+//
+// The directional albedos at cos θo = μ, roughness α (0: smooth):
+//  - smooth: E_R = R(μ), E_T = 1 − R(μ) (0 and 1 under total internal reflection);
+//  - rough: over the visible normals m of ωo, density D_ωo(m) = G1(ωo)
+//    max(0, ωo·m) D(m)/μ, the weight of each lobe, as the renderer's sampler
+//    draws them (m, then reflection with probability F(ωo·m)):
+//      E_R = ∫ D_ωo(m) F(ωo·m) [ωr below the horizon ? 0 : G2(ωo, ωr)/G1(ωo)] dm,
+//      E_T = ∫ D_ωo(m) (1 − F(ωo·m)) [ωt above the horizon or TIR ? 0 : G2(ωo, ωt)/G1(ωo)] dm,
+//    which equal ∫ f_r cos and ∫ f_t |cos| (f_t in the adjoint form) by the
+//    change of variables ωi ↔ m (the Jacobians cancel against the densities).
+//    Computed in the coordinates (w, φ), tan²θm = α² w/(1 − w), where
+//    D(m) cos θm dωm = dw dφ/(2π): the GGX peak becomes flat, and the
+//    integrand is G1(ωo)·max(0, ωo·m)/(μ cos θm)·(lobe terms), by nested
+//    adaptive Gauss–Kronrod quadrature (core/adaptive_quadrature.h) over
+//    φ ∈ [0, π] (symmetric) and w ∈ [0, 1].
+// The second moment of one BSDF sample of unit radiance, E[w²]:
+//  - smooth: a²(R + T s²);
+//  - rough: a²∫ D_ωo(m)[F (G2/G1)² 1_R + (1 − F)(s G2/G1)² 1_T] dm.
+//
+// Domain: η in [scene_limits::kMinDielectricEta, kMaxDielectricEta], η ≠ 1,
+// α = 0 or in [kMinGgxAlpha, 1], μ in (0, 1]. Accuracy: the quadrature's
+// tolerance kGlassQuadratureTolerance (relative; the smooth forms are exact
+// to round-off).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/scene.h"
+#include "core/strategy.h"
+
+namespace furnace::analytic {
+
+inline constexpr double kGlassQuadratureTolerance = 1e-11;
+
+struct InterfaceAlbedo {
+  double reflection = 0;     // E_R
+  double transmission = 0;   // E_T, unscaled
+  double second_moment = 0;  // E[w²] of one BSDF sample, albedo 1, with the convention's s
+};
+
+// At cos θo = mu on the side where the far side's index relative to the
+// viewer's is eta, for the dielectric's α and shadowing (its eta unused).
+InterfaceAlbedo dielectric_interface_albedo(const Dielectric& d, double eta, double mu,
+                                            TransportConvention convention);
+
+// The convention's factor s on transmitted radiance for relative index eta.
+double transmission_scale(double eta, TransportConvention convention);
+
+// Whether the scene is one of the two kinds above (the reason it is not, otherwise).
+std::optional<std::string> glass_scene_refusal(const Scene& scene);
+bool has_dielectric(const Scene& scene);
+
+// Per pixel centre (row-major): the radiance of kind 1 or 2 for paths of at
+// most max_segments segments. `direct_only`: the direct-lighting reference
+// (one bounce). Throws furnace::Error naming the scene and the reason when
+// the scene is neither kind.
+std::vector<double> glass_reference_image(const Scene& scene, int max_segments, TransportConvention convention,
+                                          bool direct_only);
+
+// E[Y²] per pixel centre of the direct strategy `strategy` (bsdf only) on a
+// glass scene (the sphere: a²L²R, a reflection seeing L); throws
+// furnace::Error for another strategy.
+std::vector<double> glass_second_moment_image(const Scene& scene, Strategy strategy, TransportConvention convention);
+
+}  // namespace furnace::analytic
