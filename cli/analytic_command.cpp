@@ -23,8 +23,8 @@ CLI::App* add_analytic_command(CLI::App& app, AnalyticCommandOptions& o) {
   command
       ->add_option_function<std::vector<double>>(
           "--view", [&o](const std::vector<double>& v) { o.view = std::array<double, 3>{v[0], v[1], v[2]}; },
-          "Direction from the point toward the viewer x,y,z, for a glossy (phong, ggx) receiver (default: toward "
-          "the scene's camera, -forward)")
+          "Direction from the point toward the viewer x,y,z, for a glossy (phong, ggx) or dielectric receiver (a "
+          "dielectric's from either side; default: toward the scene's camera, -forward)")
       ->expected(3)->delimiter(',')->check(finite_number().description(""))->type_name("X,Y,Z");
   command
       ->add_option_function<double>(
@@ -35,6 +35,7 @@ CLI::App* add_analytic_command(CLI::App& app, AnalyticCommandOptions& o) {
                       "Estimator(s) whose second moment and variance to compute (repeatable; default: every "
                       "strategy with its own variance model)")
       ->transform(strategy_by_name())->type_name("TEXT");
+  add_convention_option(command, o.convention);
   set_contract_footer(command);
   command->add_flag("--json", o.json, "Print JSON");
   return command;
@@ -56,6 +57,7 @@ int run_analytic(const AnalyticCommandOptions& o) {
     q.view = normalize(v);
   }
   q.estimators = o.estimators;
+  q.convention = o.convention;
   std::fputs(verify::answer_analytic_query(scene, q, o.json).c_str(), stdout);
   return kExitPass;
 }

@@ -20,6 +20,7 @@ struct AnalyticCommandOptions {
   std::optional<double> albedo;             // empty: the receiver's
   std::optional<std::array<double, 3>> view;  // empty: the camera's (glossy receivers)
   std::vector<Strategy> estimators;         // empty: every strategy with its own variance model
+  TransportConvention convention = TransportConvention::kRadiance;  // a dielectric receiver's
   bool json = false;
 };
 

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analytic/error_ledger.h"
+#include "analytic/glass.h"
 #include "analytic/glossy.h"
 #include "analytic/moments.h"
 #include "analytic/receiver.h"
@@ -150,6 +151,95 @@ std::string answer_glossy_query(const Scene& original, const AnalyticQuery& q, s
   return json ? j.dump(2) + "\n" : text;
 }
 
+// A dielectric receiver (analytic/glass.h): in a glass scene of planar
+// interfaces under a constant environment, the radiance toward the view
+// (from either side: a view behind the object's front normal looks from
+// inside, where the far side's relative index is 1/η) in the query's
+// transport convention, a·L·(E_R + s·E_T), and the bsdf estimator's second
+// moment; the other estimators are not modelled there. The error bound is
+// the quadrature tolerance (relative) for a rough interface, round-off for a
+// smooth one.
+std::string answer_dielectric_query(const Scene& original, const AnalyticQuery& q, size_t receiver, bool json) {
+  Scene scene = original;
+  Object& object = scene.objects[receiver];
+  if (q.albedo) object.material.albedo = *q.albedo;
+  if (auto reason = analytic::glass_scene_refusal(scene))
+    throw Error(fmt::format("scene file '{}': the dielectric receiver '{}' has an exact answer only in a glass scene "
+                            "(analytic/glass.h), and this one is not: {}.",
+                            scene.source, object.name, *reason));
+  if (!is_planar(object.shape))
+    throw Error(fmt::format("scene file '{}': the dielectric receiver '{}' is a sphere, whose radiance at a point "
+                            "depends on the whole path inside it; only planar interfaces are answered at a point.",
+                            scene.source, object.name));
+  const View view = q.view ? View{normalize(*q.view), "--view"} : View{-scene.camera.forward, "the camera"};
+  const Vec3 front = shape_normal(object.shape, q.point);
+  const double cos_front = dot(view.direction, front);
+  if (cos_front == 0)
+    throw Error(fmt::format("scene file '{}': the view direction from {} lies in the plane of the dielectric receiver "
+                            "'{}'.",
+                            scene.source, view.source, object.name));
+  const Dielectric& d = *object.material.as<Dielectric>();
+  const bool inside = cos_front < 0;
+  const double eta = inside ? 1 / d.eta : d.eta;
+  const double mu = std::fabs(cos_front);
+  const analytic::InterfaceAlbedo e = analytic::dielectric_interface_albedo(d, eta, mu, q.convention);
+  const double a = object.material.albedo, l_env = scene.environment.radiance;
+  const double s = analytic::transmission_scale(eta, q.convention);
+  const double radiance = a * l_env * (e.reflection + s * e.transmission);
+  const double relative_bound = (d.smooth() ? 0.0 : analytic::kGlassQuadratureTolerance) +
+                                64 * std::numeric_limits<double>::epsilon();
+  const double radiance_bound = relative_bound * std::fabs(radiance);
+  const double m2 = a * a * l_env * l_env * e.second_moment;
+  const double m2_bound = relative_bound * m2;
+  const nlohmann::ordered_json bsdf = bsdf_json(object.material);
+  nlohmann::ordered_json j;
+  j["scene"] = scene.name;
+  j["point"] = {q.point.x, q.point.y, q.point.z};
+  j["normal"] = {q.normal.x, q.normal.y, q.normal.z};
+  j["receiver"] = object.name;
+  j["bsdf"] = bsdf;
+  j["view"] = {view.direction.x, view.direction.y, view.direction.z};
+  j["view_source"] = view.source;
+  j["view_side"] = inside ? "inside" : "outside";
+  j["convention"] = transport_convention_name(q.convention);
+  j["reflection_albedo"] = e.reflection;
+  j["reflection_albedo_error_bound"] = relative_bound * e.reflection;
+  j["transmission_albedo"] = e.transmission;
+  j["transmission_albedo_error_bound"] = relative_bound * e.transmission;
+  j["radiance"] = radiance;
+  j["radiance_error_bound"] = radiance_bound;
+  std::string text = fmt::format(
+      "scene {}, point ({:.17g}, {:.17g}, {:.17g}), normal ({:.17g}, {:.17g}, {:.17g}), receiver {}\n"
+      "BSDF {}, view ({:.17g}, {:.17g}, {:.17g}) from {}, {} the glass (relative index {:.17g}), convention {}\n"
+      "directional albedos: reflection {:.17g}, transmission {:.17g} (times {:.17g} in this convention)\n"
+      "radiance L toward the view  {:.17g} ± {:.2g}\n"
+      "single-sample estimators of L: second moment E[Y^2] and variance Var Y = E[Y^2] - L^2 (± error bounds)\n",
+      scene.name, q.point.x, q.point.y, q.point.z, q.normal.x, q.normal.y, q.normal.z, object.name, bsdf_text(bsdf),
+      view.direction.x, view.direction.y, view.direction.z, view.source, inside ? "inside" : "outside", eta,
+      transport_convention_name(q.convention), e.reflection, e.transmission, s, radiance, radiance_bound);
+  std::vector<Strategy> estimators = q.estimators;
+  if (estimators.empty()) estimators = {Strategy::kBsdf};
+  for (const Strategy strategy : estimators) {
+    const std::string& est = strategy_name(strategy);
+    if (strategy != Strategy::kBsdf) {
+      const std::string why = "the second moment of this estimator at a dielectric is not modelled";
+      j["estimators"][est] = {{"unsupported", why}};
+      text += fmt::format("  {:<20} E[Y^2] {:<34} Var {}\n", est, "unsupported", why);
+      continue;
+    }
+    const double variance = m2 - radiance * radiance;
+    const double variance_bound = m2_bound + 2 * std::fabs(radiance) * radiance_bound +
+                                  std::numeric_limits<double>::epsilon() * std::fabs(m2);
+    j["estimators"][est] = {{"second_moment", m2},
+                            {"second_moment_error_bound", m2_bound},
+                            {"variance", variance},
+                            {"variance_error_bound", variance_bound}};
+    text += fmt::format("  {:<20} E[Y^2] {:<34} Var {}\n", est, fmt::format("{:.17g} ± {:.2g}", m2, m2_bound),
+                        fmt::format("{:.17g} ± {:.2g}", variance, variance_bound));
+  }
+  return json ? j.dump(2) + "\n" : text;
+}
+
 }  // namespace
 
 std::string answer_analytic_query(const Scene& scene, const AnalyticQuery& q, bool json) {
@@ -157,6 +247,7 @@ std::string answer_analytic_query(const Scene& scene, const AnalyticQuery& q, bo
   if (receiver) {
     const Object& object = scene.objects[*receiver];
     if (object.material.info().glossy) return answer_glossy_query(scene, q, *receiver, json);
+    if (object.material.as<Dielectric>()) return answer_dielectric_query(scene, q, *receiver, json);
     if (object.material.as<Mirror>() && (q.albedo ? *q.albedo : object.material.albedo) > 0)
       throw Error(fmt::format("scene file '{}': the receiver '{}' at the point is a mirror, a delta lobe with no "
                               "reference at a point (its radiance is the radiance along the mirrored ray).",

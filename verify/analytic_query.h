@@ -4,8 +4,10 @@
 // irradiance its second moment and variance. A glossy receiver (Phong, GGX):
 // the radiance its own BSDF reflects toward a view direction, and each direct
 // strategy's single-sample estimator of that radiance: its second moment and
-// variance. A mirror receiver is refused (a delta lobe has no reference at a
-// point).
+// variance. A dielectric receiver in a glass scene (analytic/glass.h), seen
+// from either side: its radiance toward the view in the query's transport
+// convention and the bsdf estimator's moments. A mirror receiver is refused
+// (a delta lobe has no reference at a point).
 #pragma once
 
 #include <optional>
@@ -29,6 +31,8 @@ struct AnalyticQuery {
   // kStrategyTable); empty: every strategy with its own variance model (a
   // glossy receiver: every direct strategy).
   std::vector<Strategy> estimators;
+  // A dielectric receiver's transport convention (what it transmits depends on it).
+  TransportConvention convention = TransportConvention::kRadiance;
 };
 
 // Runs the query and formats the answer (17 significant digits) as text or

@@ -184,6 +184,74 @@ TEST(AnalyticQueryGgx, RadianceOfTheReceiversOwnMicrofacets) {
   }
 }
 
+// A smooth glass interface (glass_smooth_outside_60: η 1.5, constant
+// environment 1) answered toward an explicit view from either side, against
+// Fresnel's amplitudes written out here: r⊥ = (c − η ct)/(c + η ct),
+// r∥ = (η c − ct)/(η c + ct), ct from Snell, R = (r⊥² + r∥²)/2; the radiance
+// convention sees R + T/η′² (η′ the far side's index over the viewer's).
+double textbook_fresnel(double c, double eta) {
+  const double s2 = 1 - c * c;
+  const double st2 = s2 / (eta * eta);
+  if (st2 >= 1) return 1;
+  const double ct = std::sqrt(1 - st2);
+  const double r_perp = (c - eta * ct) / (c + eta * ct), r_par = (eta * c - ct) / (eta * c + ct);
+  return (r_perp * r_perp + r_par * r_par) / 2;
+}
+TEST(AnalyticQueryDielectric, ExplicitViewFromEitherSideAgainstFresnelByHand) {
+  const Scene scene = load_scene(std::string(FURNACE_SCENE_DIR) + "/glass_smooth_outside_60.json");
+  AnalyticQuery q;
+  q.point = {0.1, 0.2, 0};
+  q.normal = {0, 0, 1};
+  const auto radiance = [&] { return nlohmann::json::parse(answer_analytic_query(scene, q, true))["radiance"].get<double>(); };
+  const double camera_default = radiance();
+  // The camera's own direction given explicitly: the same answer.
+  q.view = -scene.camera.forward;
+  EXPECT_EQ(radiance(), camera_default);
+  const double r60 = textbook_fresnel(0.5, 1.5);
+  EXPECT_NEAR(camera_default, r60 + (1 - r60) / 2.25, 1e-14);
+  // From inside at 30° (below the plane): η′ = 1/1.5, what is transmitted gains η² = 2.25.
+  const double c30 = std::sqrt(3.0) / 2;
+  q.view = Vec3(0, -0.5, -c30);
+  const double r30 = textbook_fresnel(c30, 1 / 1.5);
+  EXPECT_NEAR(radiance(), r30 + (1 - r30) * 2.25, 1e-13);
+  // From inside past the critical angle (60° > 41.8°): total internal reflection, 1 exactly.
+  q.view = Vec3(0, -c30, -0.5);
+  EXPECT_NEAR(radiance(), 1.0, 1e-15);
+  // The none convention: nothing scaled, 1 from either side.
+  q.convention = TransportConvention::kNone;
+  q.view = -scene.camera.forward;
+  EXPECT_NEAR(radiance(), 1.0, 1e-15);
+  // Negative control: the hand value at 60° is not what another view gives.
+  q.convention = TransportConvention::kRadiance;
+  q.view = Vec3(0, -std::sqrt(0.5), std::sqrt(0.5));
+  EXPECT_GT(std::fabs(radiance() - (r60 + (1 - r60) / 2.25)), 1e-3);
+}
+
+// A rough interface's answer is the directional albedos of analytic/glass.h,
+// bounded by their quadrature tolerance; a glass sphere is refused at a point.
+TEST(AnalyticQueryDielectric, RoughInterfaceAndSphere) {
+  const Scene strips = load_scene(std::string(FURNACE_SCENE_DIR) + "/glass_rough_outside_60.json");
+  AnalyticQuery q;
+  q.point = {-0.75, 0, 0};
+  q.normal = {0, 0, 1};
+  const nlohmann::json a = nlohmann::json::parse(answer_analytic_query(strips, q, true));
+  EXPECT_EQ(a["receiver"], "glass_a0.1");
+  EXPECT_EQ(a["view_side"], "outside");
+  const double e_r = a["reflection_albedo"].get<double>(), e_t = a["transmission_albedo"].get<double>();
+  EXPECT_DOUBLE_EQ(a["radiance"].get<double>(), e_r + e_t / 2.25);
+  EXPECT_GT(e_r, 0.0);
+  EXPECT_LT(e_r + e_t, 1.0);  // a rough interface loses what its model sends to the wrong side
+  EXPECT_GT(a["radiance_error_bound"].get<double>(), 0.0);
+  const Scene sphere = load_scene(std::string(FURNACE_SCENE_DIR) + "/glass_sphere.json");
+  q.point = {0, 0, 1};
+  try {
+    answer_analytic_query(sphere, q, false);
+    ADD_FAILURE() << "a point on the glass sphere was answered";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is a sphere"), std::string::npos) << e.what();
+  }
+}
+
 TEST(AnalyticQueryMirror, AMirrorReceiverIsRefused) {
   const Scene scene = load_scene(std::string(FURNACE_SCENE_DIR) + "/mirror_disk.json");
   AnalyticQuery q;
