@@ -59,31 +59,36 @@ struct StrategyInfo {
   // hemisphere strategies): blind to what a surface transmits, so render()
   // refuses it on a scene with a dielectric.
   bool viewer_side_only;
+  // Draws directions from the surface's BSDF (alone, in MIS or along a
+  // path): the only way to follow a delta lobe (a mirror, a smooth
+  // dielectric), so render() refuses the others on a scene with a smooth
+  // dielectric.
+  bool samples_bsdf;
   const char* description;  // one line, for --help and the README
 };
 
 // The table, in the order the CLI lists and the suite runs the strategies.
 inline constexpr std::array<StrategyInfo, 10> kStrategyTable = {{
-    {Strategy::kUniformHemisphere, "uniform_hemisphere", StrategyKind::kDirect, false, Strategy::kUniformHemisphere, 0, true,
-     "directions uniform on the hemisphere, pdf 1/(2π) per sr"},
-    {Strategy::kCosineHemisphere, "cosine_hemisphere", StrategyKind::kDirect, false, Strategy::kCosineHemisphere, 0, true,
-     "cosine-weighted directions, pdf cos θ/π per sr"},
-    {Strategy::kLightArea, "light_area", StrategyKind::kDirect, true, Strategy::kLightArea, 0, false,
-     "a point uniform on a chosen emitter's area, plus a shadow ray"},
-    {Strategy::kLightSolidAngle, "light_solid_angle", StrategyKind::kDirect, true, Strategy::kLightSolidAngle, 0, false,
-     "uniform in the solid angle of spheres (cone), triangles and rectangles; area sampling otherwise"},
-    {Strategy::kBsdf, "bsdf", StrategyKind::kDirect, false, Strategy::kCosineHemisphere, 0, false,
-     "the surface's BSDF sampling (cosine for Lambertian, lobe for Phong, the mirror direction)"},
-    {Strategy::kMisBalance, "mis_balance", StrategyKind::kDirect, true, Strategy::kMisBalance, 1, false,
-     "one BSDF and one light_solid_angle sample, balance heuristic"},
-    {Strategy::kMisPower, "mis_power", StrategyKind::kDirect, true, Strategy::kMisPower, 2, false,
-     "one BSDF and one light_solid_angle sample, power heuristic (β = 2)"},
-    {Strategy::kMisOneSample, "mis_one_sample", StrategyKind::kDirect, true, Strategy::kMisOneSample, 0, false,
-     "BSDF or light_solid_angle sampling chosen with probability 1/2, one-sample balance heuristic"},
-    {Strategy::kPathNaive, "path_naive", StrategyKind::kPath, false, std::nullopt, 0, false,
-     "path tracer: BSDF sampling, emission on hit, Russian roulette"},
-    {Strategy::kPathMis, "path_mis", StrategyKind::kPath, true, std::nullopt, 2, false,
-     "path tracer: next-event estimation with the power heuristic, Russian roulette"},
+    {Strategy::kUniformHemisphere, "uniform_hemisphere", StrategyKind::kDirect, false, Strategy::kUniformHemisphere, 0,
+     true, false, "directions uniform on the hemisphere, pdf 1/(2π) per sr"},
+    {Strategy::kCosineHemisphere, "cosine_hemisphere", StrategyKind::kDirect, false, Strategy::kCosineHemisphere, 0,
+     true, false, "cosine-weighted directions, pdf cos θ/π per sr"},
+    {Strategy::kLightArea, "light_area", StrategyKind::kDirect, true, Strategy::kLightArea, 0,
+     false, false, "a point uniform on a chosen emitter's area, plus a shadow ray"},
+    {Strategy::kLightSolidAngle, "light_solid_angle", StrategyKind::kDirect, true, Strategy::kLightSolidAngle, 0,
+     false, false, "uniform in the solid angle of spheres (cone), triangles and rectangles; area sampling otherwise"},
+    {Strategy::kBsdf, "bsdf", StrategyKind::kDirect, false, Strategy::kCosineHemisphere, 0,
+     false, true, "the surface's BSDF sampling (cosine for Lambertian, lobe for Phong, the mirror direction)"},
+    {Strategy::kMisBalance, "mis_balance", StrategyKind::kDirect, true, Strategy::kMisBalance, 1,
+     false, true, "one BSDF and one light_solid_angle sample, balance heuristic"},
+    {Strategy::kMisPower, "mis_power", StrategyKind::kDirect, true, Strategy::kMisPower, 2,
+     false, true, "one BSDF and one light_solid_angle sample, power heuristic (β = 2)"},
+    {Strategy::kMisOneSample, "mis_one_sample", StrategyKind::kDirect, true, Strategy::kMisOneSample, 0,
+     false, true, "BSDF or light_solid_angle sampling chosen with probability 1/2, one-sample balance heuristic"},
+    {Strategy::kPathNaive, "path_naive", StrategyKind::kPath, false, std::nullopt, 0,
+     false, true, "path tracer: BSDF sampling, emission on hit, Russian roulette"},
+    {Strategy::kPathMis, "path_mis", StrategyKind::kPath, true, std::nullopt, 2,
+     false, true, "path tracer: next-event estimation with the power heuristic, Russian roulette"},
 }};
 
 // Every enumerator 0 … kStrategyTable.size() − 1 has exactly one row.

@@ -98,13 +98,19 @@ std::vector<Image> render_sharing_samples(const Scene& scene, const RenderOption
     if (samples_lights(strategy) && lights.count() == 0)
       throw Error(fmt::format("scene '{}' has no emitter and no environment, so strategy '{}' has no light to sample.",
                               scene.source.empty() ? scene.name : scene.source, strategy_name(strategy)));
-    if (strategy_info(strategy).viewer_side_only)
-      for (const Object& o : scene.objects)
-        if (o.material.as<Dielectric>() && o.material.reflects())
-          throw Error(fmt::format("scene '{}': strategy '{}' samples directions on the viewer's side of a surface "
-                                  "only, so it cannot see what the dielectric object '{}' transmits (use bsdf, a "
-                                  "light strategy, MIS or a path tracer).",
-                                  scene.source.empty() ? scene.name : scene.source, strategy_name(strategy), o.name));
+    for (const Object& o : scene.objects) {
+      const Dielectric* d = o.material.as<Dielectric>();
+      if (!d || !o.material.reflects()) continue;
+      if (strategy_info(strategy).viewer_side_only)
+        throw Error(fmt::format("scene '{}': strategy '{}' samples directions on the viewer's side of a surface "
+                                "only, so it cannot see what the dielectric object '{}' transmits (use bsdf, a "
+                                "light strategy, MIS or a path tracer).",
+                                scene.source.empty() ? scene.name : scene.source, strategy_name(strategy), o.name));
+      if (d->smooth() && !strategy_info(strategy).samples_bsdf)
+        throw Error(fmt::format("scene '{}': strategy '{}' does not sample the BSDF, so it cannot follow the delta "
+                                "lobes of the smooth dielectric object '{}' (use bsdf, MIS or a path tracer).",
+                                scene.source.empty() ? scene.name : scene.source, strategy_name(strategy), o.name));
+    }
     if (!scene.point_lights.empty() && !strategy_sees_delta_lights(strategy))
       throw Error(fmt::format("scene '{}' has point lights, which strategy '{}' cannot see (no ray hits a delta light).",
                               scene.source.empty() ? scene.name : scene.source, strategy_name(strategy)));

@@ -49,9 +49,9 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
   const std::vector<Strategy> ggx_sky_strips =
       without(everything, {Strategy::kUniformHemisphere, Strategy::kBsdf, Strategy::kPathNaive});
   const std::vector<Strategy> ggx_disk = without(everything, {Strategy::kUniformHemisphere});
-  const std::vector<Strategy> glass_rough =
-      without(everything, {Strategy::kUniformHemisphere, Strategy::kCosineHemisphere, Strategy::kLightArea});
-  const std::vector<Strategy> glass_delta = without(glass_rough, {Strategy::kLightSolidAngle});
+  const std::vector<Strategy> glass =
+      without(everything, {Strategy::kUniformHemisphere, Strategy::kCosineHemisphere, Strategy::kLightArea,
+                           Strategy::kLightSolidAngle});
   std::vector<Strategy> glossy_sphere_paths = glossy_sphere;
   glossy_sphere_paths.insert(glossy_sphere_paths.end(), paths.begin(), paths.end());
   const std::vector<Entry> entries = {
@@ -106,18 +106,23 @@ std::vector<Case> default_suite(int spp, uint64_t seed, int threads) {
       // lobe. A single interface in a constant environment, seen from
       // outside at 60°, from inside at 60° (total internal reflection: L
       // exactly, zero variance) and at 30°; rough strips α 0.1 … 1 in both
-      // Smith forms from outside at 60° and inside at 45° (light sampling
-      // and MIS are what see a transmission f and pdf that lack η², pbrt-v4
-      // before dfa11074; the two-sided cosine environment sampling makes
-      // light_area the same as light_solid_angle here). The smooth sphere:
-      // L_env exactly at unlimited depth, 1 − T·R^(K+1) at depth 4 (K = 1).
-      {"glass_smooth_outside_60.json", glass_delta, kUnlimitedDepth},
-      {"glass_smooth_inside_60.json", glass_delta, kUnlimitedDepth},
-      {"glass_smooth_inside_30.json", glass_delta, kUnlimitedDepth},
-      {"glass_rough_outside_60.json", glass_rough, kUnlimitedDepth},
-      {"glass_rough_inside_45.json", glass_rough, kUnlimitedDepth},
-      {"glass_sphere.json", glass_delta, kUnlimitedDepth},
-      {"glass_sphere.json", paths, 4},
+      // Smith forms at normal view, from outside at 60° and inside at 45° (MIS
+      // and path_mis are what see a transmission f and pdf that lack η²,
+      // pbrt-v4 before dfa11074; light sampling alone, cosine-weighted
+      // environment directions on both sides, leaves 5–68 % of these
+      // pixels too skewed for the pixel t-test at 4096 spp: it is tested in
+      // tests/integration/glass_test.cpp). The smooth sphere: L_env exactly
+      // at unlimited depth, 1 − T·R^(K+1) at depth 3 (K = 0; at depth 4 the
+      // deficit T·R² ≈ 1.5e-3 is a rare event the pixel t-test cannot judge
+      // at 4096 spp in a third of the pixels).
+      {"glass_smooth_outside_60.json", glass, kUnlimitedDepth},
+      {"glass_smooth_inside_60.json", glass, kUnlimitedDepth},
+      {"glass_smooth_inside_30.json", glass, kUnlimitedDepth},
+      {"glass_rough_normal.json", glass, kUnlimitedDepth},
+      {"glass_rough_outside_60.json", glass, kUnlimitedDepth},
+      {"glass_rough_inside_45.json", glass, kUnlimitedDepth},
+      {"glass_sphere.json", glass, kUnlimitedDepth},
+      {"glass_sphere.json", paths, 3},
       // GGX conductors with exact Fresnel (complex index, analytic/fresnel.h):
       // gold-like (0.2 + 3.4i) and low-k (1.5 + 0.1i, where Cycles' old
       // approximation was 0.096 off) strips, as the GGX oblique scenes.
