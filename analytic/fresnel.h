@@ -26,7 +26,11 @@ inline double fresnel_dielectric_reference(double c, double eta) {
   if (eta == 1) return 0.0;  // no interface
   c = std::clamp(c, 0.0, 1.0);
   const double eta2_minus_1 = (eta - 1) * (eta + 1);
-  const double g2 = eta2_minus_1 + c * c;
+  // g² = η² − 1 + c², which vanishes at the critical angle: η² and c² split
+  // exactly (fma), the 1 taken from the head in [0.5, 2] (exact, Sterbenz).
+  const double e2 = eta * eta, c2 = c * c;
+  const double tails = std::fma(eta, eta, -e2) + std::fma(c, c, -c2);
+  const double g2 = (c2 >= 0.5 ? (c2 - 1) + e2 : (e2 - 1) + c2) + tails;
   if (!(g2 > 0)) return 1.0;
   const double g = std::sqrt(g2);
   const double g_plus_c = g + c;
@@ -38,9 +42,10 @@ inline double fresnel_dielectric_reference(double c, double eta) {
 }
 
 inline double fresnel_conductor_reference(double c, double n, double k) {
+  if (n == 1 && k == 0) return 0.0;  // no interface (at grazing the terms are 0/0)
   c = std::clamp(c, 0.0, 1.0);
   const double s2 = (1 - c) * (1 + c);
-  const double t = n * n - k * k - s2;
+  const double t = (n - 1) * (n + 1) - k * k + c * c;  // n² − k² − s², without 1 − (1 − c²)
   const double a2b2 = std::sqrt(t * t + 4 * n * n * k * k);
   const double a = std::sqrt(std::max(0.0, (a2b2 + t) / 2));
   const double r_perp = (a2b2 + c * c - 2 * a * c) / (a2b2 + c * c + 2 * a * c);
