@@ -244,28 +244,11 @@ double glass_pixel(const Scene& scene, const Vec3& origin, const Vec3& direction
 
 }  // namespace
 
-std::vector<double> glass_reference_image(const Scene& scene, int max_segments, TransportConvention convention,
-                                          bool direct_only) {
-  if (auto reason = glass_scene_refusal(scene)) refuse(scene, *reason);
-  if (max_segments < 1) throw Error(fmt::format("max_segments must be at least 1, got {}.", max_segments));
-  const Camera& camera = scene.camera;
-  std::vector<double> image(size_t(camera.width_px) * size_t(camera.height_px));
-  AlbedoMemo memo;
-  for (int py = 0; py < camera.height_px; ++py)
-    for (int px = 0; px < camera.width_px; ++px) {
-      const Camera::Ray ray = camera.pixel_center_ray(px, py);
-      image[size_t(py) * camera.width_px + px] = glass_pixel(scene, ray.origin, ray.direction,
-                                                             direct_only ? 2 : max_segments, convention, direct_only,
-                                                             false, memo);
-    }
-  return image;
-}
+namespace {
 
-std::vector<double> glass_second_moment_image(const Scene& scene, Strategy strategy, TransportConvention convention) {
-  if (auto reason = glass_scene_refusal(scene)) refuse(scene, *reason);
-  if (strategy != Strategy::kBsdf)
-    refuse(scene, fmt::format("the second moment of strategy '{}' at a dielectric is not modelled",
-                              strategy_name(strategy)));
+// glass_pixel at every pixel centre (row-major), one albedo memo for the image.
+std::vector<double> glass_image(const Scene& scene, int max_segments, TransportConvention convention,
+                                bool direct_only, bool second_moment) {
   const Camera& camera = scene.camera;
   std::vector<double> image(size_t(camera.width_px) * size_t(camera.height_px));
   AlbedoMemo memo;
@@ -273,9 +256,26 @@ std::vector<double> glass_second_moment_image(const Scene& scene, Strategy strat
     for (int px = 0; px < camera.width_px; ++px) {
       const Camera::Ray ray = camera.pixel_center_ray(px, py);
       image[size_t(py) * camera.width_px + px] =
-          glass_pixel(scene, ray.origin, ray.direction, 2, convention, true, true, memo);
+          glass_pixel(scene, ray.origin, ray.direction, max_segments, convention, direct_only, second_moment, memo);
     }
   return image;
+}
+
+}  // namespace
+
+std::vector<double> glass_reference_image(const Scene& scene, int max_segments, TransportConvention convention,
+                                          bool direct_only) {
+  if (auto reason = glass_scene_refusal(scene)) refuse(scene, *reason);
+  if (max_segments < 1) throw Error(fmt::format("max_segments must be at least 1, got {}.", max_segments));
+  return glass_image(scene, direct_only ? 2 : max_segments, convention, direct_only, false);
+}
+
+std::vector<double> glass_second_moment_image(const Scene& scene, Strategy strategy, TransportConvention convention) {
+  if (auto reason = glass_scene_refusal(scene)) refuse(scene, *reason);
+  if (strategy != Strategy::kBsdf)
+    refuse(scene, fmt::format("the second moment of strategy '{}' at a dielectric is not modelled",
+                              strategy_name(strategy)));
+  return glass_image(scene, 2, convention, true, true);
 }
 
 }  // namespace furnace::analytic

@@ -77,6 +77,20 @@ std::string bsdf_text(const nlohmann::ordered_json& bsdf) {
   return text + ")";
 }
 
+// The JSON answer's opening of a receiver seen along a view (glossy, dielectric).
+nlohmann::ordered_json view_query_json(const Scene& scene, const AnalyticQuery& q, const std::string& receiver,
+                                       const nlohmann::ordered_json& bsdf, const View& view) {
+  nlohmann::ordered_json j;
+  j["scene"] = scene.name;
+  j["point"] = {q.point.x, q.point.y, q.point.z};
+  j["normal"] = {q.normal.x, q.normal.y, q.normal.z};
+  j["receiver"] = receiver;
+  j["bsdf"] = bsdf;
+  j["view"] = {view.direction.x, view.direction.y, view.direction.z};
+  j["view_source"] = view.source;
+  return j;
+}
+
 // The glossy receiver's answer: its radiance toward the view and each direct
 // strategy's single-sample estimator of it. Each value's bound is what the
 // receiver model's nested quadratures report to an ErrorLedger (their own
@@ -100,14 +114,7 @@ std::string answer_glossy_query(const Scene& original, const AnalyticQuery& q, s
                             "emission or radiance too large for double precision).",
                             scene.source, radiance));
 
-  nlohmann::ordered_json j;
-  j["scene"] = scene.name;
-  j["point"] = {q.point.x, q.point.y, q.point.z};
-  j["normal"] = {q.normal.x, q.normal.y, q.normal.z};
-  j["receiver"] = name;
-  j["bsdf"] = bsdf;
-  j["view"] = {view.direction.x, view.direction.y, view.direction.z};
-  j["view_source"] = view.source;
+  nlohmann::ordered_json j = view_query_json(scene, q, name, bsdf, view);
   j["radiance"] = radiance;
   j["radiance_error_bound"] = radiance_bound;
   std::string text = fmt::format(
@@ -171,7 +178,8 @@ std::string answer_dielectric_query(const Scene& original, const AnalyticQuery& 
     throw Error(fmt::format("scene file '{}': the dielectric receiver '{}' is a sphere, whose radiance at a point "
                             "depends on the whole path inside it; only planar interfaces are answered at a point.",
                             scene.source, object.name));
-  const View view = q.view ? View{normalize(*q.view), "--view"} : View{-scene.camera.forward, "the camera"};
+  View view = q.view ? View{normalize(*q.view), "--view"} : View{-scene.camera.forward, "the camera"};
+  view.direction = view.direction + Vec3(0, 0, 0);  // −0 components to +0, for the printed direction
   const Vec3 front = shape_normal(object.shape, q.point);
   const double cos_front = dot(view.direction, front);
   if (cos_front == 0)
@@ -192,14 +200,7 @@ std::string answer_dielectric_query(const Scene& original, const AnalyticQuery& 
   const double m2 = a * a * l_env * l_env * e.second_moment;
   const double m2_bound = relative_bound * m2;
   const nlohmann::ordered_json bsdf = bsdf_json(object.material);
-  nlohmann::ordered_json j;
-  j["scene"] = scene.name;
-  j["point"] = {q.point.x, q.point.y, q.point.z};
-  j["normal"] = {q.normal.x, q.normal.y, q.normal.z};
-  j["receiver"] = object.name;
-  j["bsdf"] = bsdf;
-  j["view"] = {view.direction.x, view.direction.y, view.direction.z};
-  j["view_source"] = view.source;
+  nlohmann::ordered_json j = view_query_json(scene, q, object.name, bsdf, view);
   j["view_side"] = inside ? "inside" : "outside";
   j["convention"] = transport_convention_name(q.convention);
   j["reflection_albedo"] = e.reflection;

@@ -29,14 +29,13 @@
 
 #include "core/fresnel.h"
 #include "core/vec3.h"
-#include "tests/fresnel_50.h"
+#include "tests/fresnel_checks.h"
 
 namespace furnace {
 namespace {
 
 using testing_support::ComplexIndex;
 using testing_support::Real50;
-using testing_support::WorstError;
 using testing_support::fresnel_conductor_50;
 using testing_support::fresnel_dielectric_50;
 using testing_support::relative_error;
@@ -50,33 +49,12 @@ constexpr double kSymmetryTarget = 1e-14;
 // Mitsuba's spot values carry 6 significant digits: half a unit of the 6th.
 constexpr double kSixDigits = 5e-7;
 
-void print_worst(const std::string& what, const WorstError& w, const char* a_name, const char* b_name) {
-  std::cout << "  " << what << " worst rel err " << w.error << " at c = " << w.cos_i << ", " << a_name << " = " << w.a;
-  if (b_name != nullptr) std::cout << ", " << b_name << " = " << w.b;
-  std::cout << " (F = " << w.value << ", 50-digit " << w.reference << "; " << w.points << " points)\n";
-}
 
 // ---------------------------------------------------------------------------
 // Dielectric.
 
 TEST(FresnelDielectric, AgreesWithFiftyDigitsOverGrid) {
-  WorstError outside, inside, near_one, grazing;
-  for (double eta : testing_support::kFresnelEtas)
-    for (double c : testing_support::fresnel_cosines()) {
-      const double f = fresnel_dielectric(c, eta);
-      const Real50 ref = fresnel_dielectric_50(c, eta);
-      const double e = relative_error(f, ref);
-      ASSERT_GT(ref, 0) << "c " << c << " eta " << eta;
-      if (std::fabs(eta - 1) <= 1e-3) near_one.add(e, c, eta, 0, f, ref);
-      else if (eta > 1) outside.add(e, c, eta, 0, f, ref);
-      else inside.add(e, c, eta, 0, f, ref);
-      if (c <= 1e-4) grazing.add(e, c, eta, 0, f, ref);
-      EXPECT_LE(e, kPrecisionTarget) << "c " << c << " eta " << eta << " F " << f;
-    }
-  print_worst("dielectric eta > 1", outside, "eta", nullptr);
-  print_worst("dielectric eta < 1", inside, "eta", nullptr);
-  print_worst("dielectric |eta - 1| <= 1e-3", near_one, "eta", nullptr);
-  print_worst("dielectric grazing c <= 1e-4", grazing, "eta", nullptr);
+  testing_support::check_dielectric_grid("dielectric", fresnel_dielectric, kPrecisionTarget);
 }
 
 // Index-matched: no interface, F = 0 exactly at every angle (grazing
@@ -85,63 +63,22 @@ TEST(FresnelDielectric, IndexMatchedIsExactlyZero) {
   for (double c : testing_support::fresnel_cosines()) EXPECT_EQ(fresnel_dielectric(c, 1.0), 0.0) << c;
 }
 
-// Within dtheta of the critical angle θc = asin η from inside (η < 1), on
-// the transmitting side (θ = θc − dtheta). Here F is ill-conditioned:
-// 1 − F ∝ cos θt ∝ √(c² − cos²θc), so a relative perturbation δ of c moves F
-// by about κ·δ with κ = |c F′/F| ~ 1/(θc − θ)^½ · …; the condition number is
-// printed beside the error (κ·ε/2 is what one rounding of c² alone costs).
-// Measured when written: 5.9e-11 at 1e-10 rad (η = 0.25, κ = 4.7e6), 9.4e-12
-// at 1e-8, 5.2e-13 at 1e-6, 8.1e-14 at 1e-4: fresnel_dielectric misses the
-// bar within ~1e-5 rad of θc because it rounds c² and η² − 1 before adding
-// them; the same formula with η² − 1 + c² formed exactly (fma two-products)
-// measured 1.2e-15 at 1e-10 rad, so the bar is reachable.
+// Within 1e-10 … 1e-4 rad of the critical angle from inside, where F is
+// ill-conditioned (tests/fresnel_checks.h). Rounding c² and η² − 1 before
+// adding them cost 5.9e-11 at 1e-10 rad (η = 0.25, κ = 4.7e6) until
+// core/fresnel.h formed η² − 1 + c² without rounding its parts.
 TEST(FresnelDielectric, NearCriticalAngleFromInside) {
-  const std::vector<double> dthetas{1e-10, 1e-8, 1e-6, 1e-4};
-  const std::vector<double> etas{0.25, 0.5, 1 / 1.5, 1 / 1.05, 0.999, 1 - 1e-6};
-  WorstError overall;
-  for (double dtheta : dthetas) {
-    WorstError w;
-    double kappa_at_worst = 0;
-    for (double eta : etas) {
-      const double c = testing_support::cos_near_critical(eta, -dtheta);
-      const Real50 ref = fresnel_dielectric_50(c, eta);
-      ASSERT_LT(ref, 1) << "not on the transmitting side: eta " << eta << " dtheta " << dtheta;
-      const double f = fresnel_dielectric(c, eta);
-      const double e = relative_error(f, ref);
-      if (e >= w.error) kappa_at_worst = testing_support::fresnel_dielectric_condition(c, eta);
-      w.add(e, c, eta, dtheta, f, ref);
-      overall.add(e, c, eta, dtheta, f, ref);
-      EXPECT_LE(e, kPrecisionTarget) << "theta_c - " << dtheta << " rad, eta " << eta << ", c " << c << ": F " << f
-                                     << " vs 50-digit " << static_cast<double>(ref);
-    }
-    std::cout << "  dielectric theta_c - " << dtheta << " rad: worst rel err " << w.error << " at eta = " << w.a
-              << ", c = " << w.cos_i << " (condition number " << kappa_at_worst << ", kappa*eps/2 = "
-              << kappa_at_worst * kEps / 2 << ")\n";
-  }
-  print_worst("dielectric near critical angle (all)", overall, "eta", "dtheta");
+  testing_support::check_near_critical_angle("dielectric", fresnel_dielectric, kPrecisionTarget);
 }
 
 // Past the critical angle from inside, and at grazing incidence from inside,
 // F is exactly 1, refracted_cos exactly 0 and total_internal_reflection true.
 TEST(FresnelDielectric, TotalInternalReflectionIsExactlyOne) {
-  long points = 0;
-  for (double eta : testing_support::kFresnelEtas) {
-    if (!(eta < 1)) continue;
-    std::vector<double> cosines{0.0};
-    for (double dtheta : {1e-10, 1e-8, 1e-6, 1e-3, 0.1})
-      cosines.push_back(testing_support::cos_near_critical(eta, dtheta));
-    for (double c : testing_support::fresnel_cosines())
-      if (fresnel_dielectric_50(c, eta) == 1) cosines.push_back(c);
-    for (double c : cosines) {
-      if (c < 0) continue;  // θc + 0.1 is past grazing for η near 1
-      ASSERT_EQ(fresnel_dielectric_50(c, eta), 1) << "not TIR: c " << c << " eta " << eta;
-      ++points;
-      EXPECT_EQ(fresnel_dielectric(c, eta), 1.0) << "c " << c << " eta " << eta;
-      EXPECT_EQ(refracted_cos(c, eta), 0.0) << "c " << c << " eta " << eta;
-      EXPECT_TRUE(total_internal_reflection(c, eta)) << "c " << c << " eta " << eta;
-    }
-  }
-  std::cout << "  " << points << " points past the critical angle\n";
+  const long points = testing_support::for_each_total_internal_reflection([](double c, double eta) {
+    EXPECT_EQ(fresnel_dielectric(c, eta), 1.0) << "c " << c << " eta " << eta;
+    EXPECT_EQ(refracted_cos(c, eta), 0.0) << "c " << c << " eta " << eta;
+    EXPECT_TRUE(total_internal_reflection(c, eta)) << "c " << c << " eta " << eta;
+  });
   EXPECT_GT(points, 100);
 }
 
@@ -219,28 +156,12 @@ TEST(FresnelDielectric, SpotValuesFromMitsuba) {
 // ---------------------------------------------------------------------------
 // Conductor.
 
-std::string index_name(const ComplexIndex& x) {
-  return "(" + std::to_string(x.n).substr(0, 4) + ", " + std::to_string(x.k).substr(0, 4) + ")";
-}
 
-// Measured when written: ≤ 7.7e-16 for the four metals and (0, 1); (1, 0)
-// fails: NaN at c = 0 (0/0), 0.0387 at c = 1e-8 and 4.9e-10 at c = 1e-6
-// (1 − s²/η̃² with s² = (1 − c)(1 + c) rounded cancels to nothing when
-// η̃² = 1; the dielectric's (η² − 1 + c²)/η² form does not).
+// The index-matched (1, 0) gave NaN at c = 0 and 0.0387 at c = 1e-8 until
+// core/fresnel.h formed cos²θt as (η̃² − 1 + c²)/η̃² (1 − s²/η̃² with s²
+// rounded cancels to nothing when η̃² = 1).
 TEST(FresnelConductor, AgreesWithFiftyDigitsOverGrid) {
-  for (const ComplexIndex& x : testing_support::kConductors) {
-    WorstError w;
-    for (double c : testing_support::fresnel_cosines()) {
-      const double f = fresnel_conductor(c, x.n, x.k);
-      const Real50 ref = fresnel_conductor_50(c, x.n, x.k);
-      // (1, 0): F ≡ 0 (checked in 50 digits); the error is absolute.
-      const double e = relative_error(f, ref);
-      w.add(e, c, x.n, x.k, f, ref);
-      EXPECT_LE(e, kPrecisionTarget) << "conductor " << index_name(x) << " c " << c << ": F " << f << " vs 50-digit "
-                                     << static_cast<double>(ref);
-    }
-    print_worst("conductor " + index_name(x) + (x.n == 1 && x.k == 0 ? " (absolute: F = 0)" : ""), w, "n", "k");
-  }
+  testing_support::check_conductor_grid("conductor", fresnel_conductor, kPrecisionTarget);
 }
 
 // The degenerate indices, in the references themselves: the ideal conductor

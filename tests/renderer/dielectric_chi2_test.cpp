@@ -47,6 +47,7 @@
 #include "renderer/microfacet.h"
 #include "renderer/rng.h"
 #include "stats/chi2.h"
+#include "tests/renderer/ggx_normal_grid.h"
 #include "stats/statistics.h"
 #include "tests/renderer/dielectric_normal_quadrature.h"
 
@@ -56,8 +57,8 @@ namespace {
 constexpr uint64_t kSeed = 0xd1e1c2;
 constexpr size_t kSamples = 1000000;
 constexpr double kFamilyAlpha = 0.01;
-constexpr int kRows = 20;
-constexpr int kColumns = 21;  // odd: no cell edge on the plane of wo (φ = 0, π)
+constexpr int kRows = kGgxGridRows;
+constexpr int kColumns = kGgxGridColumns;
 constexpr double kAlbedo = 0.8;
 
 // The sum of 2·420 cell integrals, each to kQuadratureRelTolerance by its
@@ -82,24 +83,6 @@ Vec3 wo_at(double theta_deg) {
 
 enum Lobe { kReflect = 0, kTransmit = 1 };
 
-struct NormalGrid {
-  double alpha;
-  double theta_edge(int row) const {
-    if (row == kRows) return kPi / 2;
-    const double v = double(row) / kRows;
-    return std::atan(alpha * std::sqrt(v / (1 - v)));  // tan²θ = α² v/(1 − v)
-  }
-  long cell_of(const Vec3& m) const {
-    if (!(is_finite(m) && m.z > 0)) return -1;
-    const double t2 = m.x * m.x + m.y * m.y;
-    const double v = t2 / (alpha * alpha * m.z * m.z + t2);
-    double phi = std::atan2(m.y, m.x);
-    if (phi < 0) phi += 2 * kPi;
-    const int row = std::min(kRows - 1, int(v * kRows));
-    const int col = std::min(kColumns - 1, int(phi / (2 * kPi) * kColumns));
-    return long(row) * kColumns + col;
-  }
-};
 
 // The normal of a sampled direction in its lobe.
 std::optional<Vec3> binned_normal(const Vec3& wo, const Vec3& wi, double eta) {
@@ -209,7 +192,7 @@ struct Outcome {
 Outcome run(const DielectricBsdf& sampler, const DielectricBsdf& claimed, double theta_deg, const std::string& name,
             double alpha_each) {
   const Vec3 wo = wo_at(theta_deg);
-  const NormalGrid grid{sampler.alpha};
+  const GgxNormalGrid grid{sampler.alpha};
   const size_t cells = size_t(kRows) * kColumns;
   std::vector<double> observed(2 * cells + 1, 0), expected(2 * cells + 1, 0);  // two lobes + failed samples
   uint64_t stream = 0xcbf29ce484222325ULL;

@@ -37,6 +37,7 @@
 #include "renderer/bsdf.h"
 #include "renderer/rng.h"
 #include "stats/chi2.h"
+#include "tests/renderer/ggx_normal_grid.h"
 #include "stats/statistics.h"
 
 namespace furnace::stats {
@@ -45,8 +46,8 @@ namespace {
 constexpr uint64_t kSeed = 0x66c7c412;
 constexpr size_t kSamples = 1000000;
 constexpr double kFamilyAlpha = 0.01;
-constexpr int kRows = 20;
-constexpr int kColumns = 21;  // odd: no cell edge on the plane of wo (φ = 0, π)
+constexpr int kRows = kGgxGridRows;
+constexpr int kColumns = kGgxGridColumns;
 
 // The sum of 421 cell integrals, each to kQuadratureRelTolerance (1e-8) by
 // its error estimate: 1.5e-8 measured at α = 0.01, θo = 85°; 1e-7 bounds it.
@@ -65,26 +66,6 @@ Vec3 wo_at(double theta_deg) {
 // What is binned: a drawn visible normal, or the half vector of a reflected direction.
 enum class Binned { kNormal, kReflected };
 
-// The (θ, φ) grid of normals.
-struct NormalGrid {
-  double alpha;
-  double theta_edge(int row) const {
-    if (row == kRows) return kPi / 2;
-    const double v = double(row) / kRows;
-    return std::atan(alpha * std::sqrt(v / (1 - v)));  // tan²θ = α² v/(1 − v)
-  }
-  // -1 for a normal that is not finite or not above the horizon.
-  long cell_of(const Vec3& m) const {
-    if (!(is_finite(m) && m.z > 0)) return -1;
-    const double t2 = m.x * m.x + m.y * m.y;
-    const double v = t2 / (alpha * alpha * m.z * m.z + t2);
-    double phi = std::atan2(m.y, m.x);
-    if (phi < 0) phi += 2 * kPi;
-    const int row = std::min(kRows - 1, int(v * kRows));
-    const int col = std::min(kColumns - 1, int(phi / (2 * kPi) * kColumns));
-    return long(row) * kColumns + col;
-  }
-};
 
 // The density is positive only where cos φ > K(θ) on the ring of normals at
 // θ (wo = (sin θo, 0, cos θo)):
@@ -160,7 +141,7 @@ struct Outcome {
 // reflected directions.
 Outcome run(const GgxBsdf& bsdf, double theta_deg, Binned binned, const std::string& name, double alpha_each) {
   const Vec3 wo = wo_at(theta_deg);
-  const NormalGrid grid{bsdf.alpha};
+  const GgxNormalGrid grid{bsdf.alpha};
   const size_t cells = size_t(kRows) * kColumns;
   std::vector<double> observed(cells + 1, 0), expected(cells + 1, 0);  // + failed samples
   uint64_t stream = 0xcbf29ce484222325ULL;
