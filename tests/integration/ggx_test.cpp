@@ -92,12 +92,7 @@ TEST(GgxDefect, NoneChangesALambertianScene) {
                    Defect::kGgxSeparableAsHeightCorrelated, Defect::kGgxDWithoutInvPi}) {
     options.defect = d;
     const Image wrong = render(scene, options);
-    ASSERT_EQ(right.pixels.size(), wrong.pixels.size());
-    size_t differing = 0;
-    for (size_t i = 0; i < right.pixels.size(); ++i)
-      differing += right.pixels[i].mean != wrong.pixels[i].mean ||
-                   right.pixels[i].sample_variance() != wrong.pixels[i].sample_variance();
-    EXPECT_EQ(differing, 0u) << defect_name(d);
+    EXPECT_EQ(test::differing_pixels(right, wrong), 0u) << defect_name(d);
   }
 }
 
