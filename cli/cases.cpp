@@ -1,10 +1,13 @@
 #include "cli/cases.h"
 
 #include <algorithm>
+#include <map>
+#include <utility>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "cli/cli_options.h"
 #include "core/scene.h"
 #include "stats/statistics.h"
 
@@ -48,6 +51,17 @@ std::string calibrated_spp_list() {
   for (const StrategyInfo& info : kStrategyTable)
     items.push_back(fmt::format("{} {}", info.name, verify::min_calibrated_spp(info.strategy)));
   return fmt::format("{}", fmt::join(items, ", "));
+}
+
+CLI::Option* add_suite_option(CLI::App* command, verify::Suite& suite) {
+  const std::map<std::string, verify::Suite>& by_name = verify::suite_names();
+  return command
+      ->add_option("--suite", suite,
+                   "Built-in suite: default (one scene per class, under 90 s on 2 cores), extended (the classes' "
+                   "second views: other light selections, view angles, depth limits) or all")
+      ->transform(enum_by_name(std::vector<std::pair<std::string, verify::Suite>>(by_name.begin(), by_name.end())))
+      ->type_name("default|extended|all")
+      ->default_str(verify::suite_name(suite));
 }
 
 }  // namespace furnace::cli

@@ -7,9 +7,16 @@
 #include <vector>
 
 #include "core/strategy.h"
+#include <CLI/CLI.hpp>
+
 #include "verify/harness.h"
+#include "verify/suite.h"
 
 namespace furnace::cli {
+
+// --suite default|extended|all: which built-in suite (verify/suite.h) a
+// command runs when no scene file is given.
+CLI::Option* add_suite_option(CLI::App* command, verify::Suite& suite);
 
 // The cases of `suite` whose strategy is among `strategies` (all of them
 // when it is empty).

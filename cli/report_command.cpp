@@ -19,7 +19,8 @@ namespace furnace::cli {
 CLI::App* add_report_command(CLI::App& app, ReportCommandOptions& o) {
   CLI::App* command = app.add_subcommand("report", "Write convergence reports (error against spp and time, plots, "
                                          "images; HTML, Markdown, CSV) for the built-in suite or the given scenes");
-  command->add_option("--scene", o.scenes, "Scene file(s); default: the built-in suite");
+  CLI::Option* scene = command->add_option("--scene", o.scenes, "Scene file(s); default: the built-in suite");
+  add_suite_option(command, o.suite)->excludes(scene);
   add_strategies_option(command, o.strategies);
   command->add_option("--min-spp", o.min_spp, "Smallest spp (doubled up to --max-spp)")
       ->capture_default_str()->transform(integer_in(2, kMaxSpp));
@@ -41,7 +42,7 @@ namespace {
 // The report's cases: the built-in suite, or each --scene file with the
 // chosen strategies (default: every direct strategy that sees its lights).
 std::vector<verify::Case> report_cases(const ReportCommandOptions& o) {
-  if (o.scenes.empty()) return suite_cases(verify::default_suite(o.max_spp, o.seed, o.threads), o.strategies);
+  if (o.scenes.empty()) return suite_cases(verify::builtin_suite(o.suite, o.max_spp, o.seed, o.threads), o.strategies);
   std::vector<verify::Case> cases = scene_file_cases(o.scenes, o.strategies);
   for (verify::Case& c : cases) {
     c.options.spp = o.max_spp;

@@ -10,11 +10,13 @@
 #include <CLI/CLI.hpp>
 
 #include "core/strategy.h"
+#include "verify/suite.h"
 
 namespace furnace::cli {
 
 struct ReportCommandOptions {
   std::vector<std::string> scenes;   // empty: the built-in suite
+  verify::Suite suite = verify::Suite::kDefault;  // without --scene
   std::vector<Strategy> strategies;  // empty: all (--scene files: every direct strategy that sees their lights)
   int min_spp = 4, max_spp = 1024;
   uint64_t seed = 20261125;

@@ -21,8 +21,9 @@ CLI::App* add_sweep_command(CLI::App& app, SweepCommandOptions& o) {
   CLI::App* command =
       app.add_subcommand("sweep", "Measure the false-alarm rate of the verification over many seeds (slow)");
   add_strategies_option(command, o.strategies);
+  add_suite_option(command, o.suite);
   command->add_option("--suite-scene", o.scenes,
-                      "Only the built-in suite's cases of these scenes (file name without .json, repeatable; default: "
+                      "Only the --suite's cases of these scenes (file name without .json, repeatable; default: "
                       "all)")
       ->type_name("NAME");
   command->add_option("--seeds", o.seeds, "Seeds per case")->capture_default_str()->transform(integer_in(1, 100000));
@@ -35,17 +36,22 @@ CLI::App* add_sweep_command(CLI::App& app, SweepCommandOptions& o) {
 }
 
 int run_sweep(const SweepCommandOptions& o) {
-  std::vector<verify::Case> cases = suite_cases(verify::default_suite(o.spp, 0, o.threads), o.strategies);
+  std::vector<verify::Case> cases = suite_cases(verify::builtin_suite(o.suite, o.spp, 0, o.threads), o.strategies);
   if (!o.scenes.empty()) {
     const auto stem = [](const verify::Case& c) { return std::filesystem::path(c.scene_path).stem().string(); };
-    std::set<std::string> known;
-    for (const verify::Case& c : verify::default_suite(o.spp, 0, o.threads)) known.insert(stem(c));
+    std::set<std::string> known, anywhere;
+    for (const verify::Case& c : verify::builtin_suite(o.suite, o.spp, 0, o.threads)) known.insert(stem(c));
+    for (const verify::Case& c : verify::builtin_suite(verify::Suite::kAll, o.spp, 0, o.threads))
+      anywhere.insert(stem(c));
     for (const std::string& name : o.scenes)
       if (!known.count(name)) {
+        if (anywhere.count(name))
+          throw Error(fmt::format("option --suite-scene: '{}' is no scene of the {} suite; add --suite all.", name,
+                                  verify::suite_name(o.suite)));
         std::string list;
-        for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-        throw Error(fmt::format("option --suite-scene: '{}' is no scene of the built-in suite (accepted: {}).", name,
-                                list));
+        for (const std::string& k : anywhere) list += (list.empty() ? "" : ", ") + k;
+        throw Error(fmt::format("option --suite-scene: '{}' is no scene of the built-in suites (accepted: {}).",
+                                name, list));
       }
     std::vector<verify::Case> kept;
     for (const verify::Case& c : cases)

@@ -9,12 +9,14 @@
 #include <CLI/CLI.hpp>
 
 #include "core/strategy.h"
+#include "verify/suite.h"
 
 namespace furnace::cli {
 
 struct SweepCommandOptions {
   std::vector<Strategy> strategies;  // empty: all
   std::vector<std::string> scenes;   // built-in scene names (file stem); empty: all
+  verify::Suite suite = verify::Suite::kDefault;
   int seeds = 50;
   int spp = 1024;
   double case_alpha = 0.05;

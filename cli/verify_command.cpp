@@ -18,6 +18,7 @@ CLI::App* add_verify_command(CLI::App& app, VerifyCommandOptions& o) {
   CLI::App* command =
       app.add_subcommand("verify", "Render the analytic scenes and test them against their exact references");
   CLI::Option* scene = command->add_option("--scene", o.scenes, "Scene file(s); default: the built-in suite");
+  add_suite_option(command, o.suite)->excludes(scene);
   add_strategies_option(command, o.strategies);
   command
       ->add_option_function<LightSelection>(
@@ -54,7 +55,7 @@ namespace {
 std::vector<verify::Case> verify_cases(const VerifyCommandOptions& o) {
   std::vector<verify::Case> cases;
   if (o.scenes.empty())
-    for (verify::Case c : suite_cases(verify::default_suite(o.spp, o.seed, o.threads), o.strategies)) {
+    for (verify::Case c : suite_cases(verify::builtin_suite(o.suite, o.spp, o.seed, o.threads), o.strategies)) {
       c.options.defect = o.defect;
       c.options.convention = o.convention;
       if (o.light_selection) c.options.light_selection = *o.light_selection;

@@ -11,12 +11,14 @@
 #include <CLI/CLI.hpp>
 
 #include "core/strategy.h"
+#include "verify/suite.h"
 #include "stats/test_design.h"
 
 namespace furnace::cli {
 
 struct VerifyCommandOptions {
   std::vector<std::string> scenes;   // empty: the built-in suite
+  verify::Suite suite = verify::Suite::kDefault;  // without --scene
   std::vector<Strategy> strategies;  // empty: all (--scene files: every direct strategy that sees their lights)
   Defect defect = Defect::kNone;
   int spp = 4096;

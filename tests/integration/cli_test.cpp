@@ -126,6 +126,10 @@ TEST(Cli, EveryArgumentErrorIsOneLineNamingTheOptionAndExitsTwo) {
       {analytic + " --point 0,0,0 --normal 0,0,1 --view 0,0", "--view"},
       {analytic + " --point 0,0,0 --normal 0,0,1 --view 0,nan,1", "--view"},
       {"sweep --suite-scene no_such_scene --seeds 2", "--suite-scene"},
+      {"sweep --suite-scene sphere_light --seeds 2", "--suite all"},  // an extended scene, default suite
+      {"verify --suite quick", "--suite"},
+      {"verify --suite extended --scene " + scene, "--suite"},       // excludes --scene
+      {"report --suite bogus", "--suite"},
       {"verify --seed -1", "--seed"},
       {"verify --seed 18446744073709551616", "--seed"},
       {"render --scene " + scene + " --seed 1.5", "--seed"},

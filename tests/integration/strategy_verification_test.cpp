@@ -95,7 +95,7 @@ TEST_P(SuiteCase, PassesMeanTests) {
   EXPECT_LE(v.pixels_untested, kMaxUntestedFraction * v.pixels);
 }
 
-INSTANTIATE_TEST_SUITE_P(Builtin, SuiteCase, testing::ValuesIn(default_suite(kSpp, kSeed, 0)),
+INSTANTIATE_TEST_SUITE_P(Builtin, SuiteCase, testing::ValuesIn(builtin_suite(Suite::kAll, kSpp, kSeed, 0)),
                          [](const testing::TestParamInfo<Case>& info) { return name_of(info.param); });
 
 struct Control {
