@@ -51,7 +51,9 @@ CLI::App* add_check_command(CLI::App& app, CheckCommandOptions& o) {
       "Verdict: PASS (exit 0) when no test rejects and the image-mean test detects a bias of --max-detectable-bias "
       "with power 0.9; FAIL (exit 1) when any test rejects, whatever the power; bad input (exit 2, one sentence on "
       "stderr); INCONCLUSIVE (exit 3) when nothing rejects but the test lacks that power (the report says how many "
-      "images or samples would give it).\n" + std::string(kExitContract));
+      "images or samples would give it).\n"
+      "Finite negative values are used as is in the tests and counted in the report and the JSON (the reference is "
+      "non-negative); NaN or infinite radiance is bad input.\n" + std::string(kExitContract));
   return command;
 }
 

@@ -55,9 +55,11 @@ CLI::App* add_compare_command(CLI::App& app, CompareCommandOptions& o) {
       "Verdict: SAME (exit 0) when no test rejects and the image-mean test detects a relative difference of "
       "--max-detectable-difference with power 0.9; DIFFERENT (exit 1) when any test rejects, naming which (mean, "
       "tiles, pixels, variance); bad input (exit 2, one sentence on stderr: resolutions or channels that differ, "
-      "NaN or negative radiance, fewer than 2 renders on a side without variance channels, the same render on both "
+      "NaN or infinite radiance, fewer than 2 renders on a side without variance channels, the same render on both "
       "sides); INCONCLUSIVE (exit 3) when nothing rejects but the test lacks that power (the report says how many "
-      "renders or samples would give it).\n" + std::string(kExitContract));
+      "renders or samples would give it).\n"
+      "Finite negative values (a spectral renderer's RGB film) are data: used as is, counted per side in the report "
+      "and the JSON.\n" + std::string(kExitContract));
   return command;
 }
 

@@ -11,8 +11,9 @@
 //           detect a difference of --max-detectable-difference; the text says
 //           how many renders or samples would
 // The report goes to stdout (to stderr when the JSON goes to stdout);
-// warnings (sides whose provenance names different scenes or spp) go to
-// stderr and into the JSON. --json FILE ("-": stdout) holds every number the
+// warnings (sides whose provenance names different scenes, or whose headers
+// state different spp) go to stderr and into the JSON. Finite negative
+// radiance is data, used as is and counted per side. --json FILE ("-": stdout) holds every number the
 // text shows; non-finite numbers are null. --zmap FILE writes the per-pixel
 // Welch t of A − B.
 #pragma once

@@ -3,9 +3,12 @@
 #include <exception>
 
 #include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfDoubleAttribute.h>
+#include <OpenEXR/ImfFloatAttribute.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfIntAttribute.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfTestFile.h>
@@ -94,9 +97,16 @@ Image read(const fs::path& path, std::string_view what) {
                               file_name, width, height, kMaxDimension));
     image.width = int(width);
     image.height = int(height);
-    for (auto a = header.begin(); a != header.end(); ++a)
+    for (auto a = header.begin(); a != header.end(); ++a) {
       if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&a.attribute()))
         image.attributes[a.name()] = s->value();
+      else if (const auto* i = dynamic_cast<const Imf::IntAttribute*>(&a.attribute()))
+        image.numbers[a.name()] = double(i->value());
+      else if (const auto* f = dynamic_cast<const Imf::FloatAttribute*>(&a.attribute()))
+        image.numbers[a.name()] = double(f->value());
+      else if (const auto* d = dynamic_cast<const Imf::DoubleAttribute*>(&a.attribute()))
+        image.numbers[a.name()] = d->value();
+    }
 
     const size_t n = size_t(width) * size_t(height);
     Imf::FrameBuffer frame;

@@ -49,7 +49,10 @@ struct Image {
   // Pixel values per channel, row-major from the top-left (index y·width + x).
   std::map<std::string, std::vector<float>> floats;     // read: HALF and FLOAT channels; written as FLOAT
   std::map<std::string, std::vector<uint32_t>> uints;   // read: UINT channels; written as UINT
-  std::map<std::string, std::string> attributes;        // string header attributes (other types are skipped)
+  std::map<std::string, std::string> attributes;        // string header attributes
+  // read: int, float and double header attributes (pbrt-v4 writes its
+  // samplesPerPixel as an int); ignored by write(). Other types are skipped.
+  std::map<std::string, double> numbers;
   std::vector<ChannelInfo> channels;  // read: every channel in the file, alphabetical; ignored by write()
 
   bool has_channel(const std::string& name) const;

@@ -68,12 +68,13 @@ int images_needed(DetectableCache& cache, double sd, double reference_mean, doub
                                    kMaxAdvisedImages);
 }
 
-// The images' samples per pixel: the provenance's spp when every image
-// states the same, else the median N of a furnace EXR, else 0 (unknown).
+// The images' samples per pixel: the spp their headers state (furnace's,
+// pbrt-v4's or Blender's attribute) when every image states the same, else
+// the median N of a furnace EXR, else 0 (unknown).
 double known_spp(const std::vector<ForeignImage>& images) {
-  const std::string first = images[0].provenance.spp;
+  const std::string first = images[0].stated_spp;
   bool same = !first.empty();
-  for (const ForeignImage& img : images) same = same && img.provenance.spp == first;
+  for (const ForeignImage& img : images) same = same && img.stated_spp == first;
   if (same) return std::stod(first);
   if (!images[0].count.empty()) return stats::median(images[0].count);
   return 0;
@@ -312,6 +313,8 @@ CheckResult check_images(const std::vector<ForeignImage>& images, const std::vec
 
   CheckResult r;
   r.images = int(k);
+  r.negative = count_negative_values(images);
+  r.half_float = any_half_float(images);
   r.pixels = int(n);
   r.method = k == 1 ? "furnace variance" : "across-images t";
   r.alpha = alpha;

@@ -141,6 +141,11 @@ struct CheckAdvice {
 
 struct CheckResult {
   int images = 0;
+  // Finite negative values in the images: used as is in every test, and
+  // counted, since the reference is non-negative (a spectral renderer's RGB
+  // film holds small ones; large or many ones are a bias the tests may find).
+  NegativeValues negative;
+  bool half_float = false;  // some image stores its radiance as 16-bit half floats
   int pixels = 0;
   std::string method;  // "across-images t" or "furnace variance"
   double alpha = 0;

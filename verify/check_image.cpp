@@ -1,6 +1,8 @@
 #include "verify/check_image.h"
 
+#include <algorithm>
 #include <cmath>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -15,16 +17,61 @@ namespace {
 constexpr const char* kRgb[] = {"R", "G", "B"};
 constexpr const char* kVarianceRgb[] = {"variance.R", "variance.G", "variance.B"};
 constexpr const char* kCountChannel = "N";
+// Header attributes stating the spp: pbrt-v4's (an int, src/pbrt/util/image.cpp)
+// and Blender's stamp of a Cycles render ("cycles." + view layer + ".samples").
+constexpr const char* kPbrtSppAttribute = "samplesPerPixel";
+constexpr std::string_view kCyclesPrefix = "cycles.";
+constexpr std::string_view kCyclesSuffix = ".samples";
 
 std::string pixel_name(size_t i, int width) { return fmt::format("({}, {})", i % size_t(width), i / size_t(width)); }
 
-// Radiance must be finite and non-negative at every pixel.
-void require_radiance(const std::string& path, const std::string& channel, const std::vector<double>& v, int width) {
-  for (size_t i = 0; i < v.size(); ++i)
-    if (!std::isfinite(v[i]) || v[i] < 0)
-      throw Error(fmt::format("image '{}' has radiance {} in channel '{}' at pixel {}; radiance must be finite and "
-                              "non-negative.",
-                              path, float(v[i]), channel, pixel_name(i, width)));
+// Radiance must be finite at every pixel; finite negative values are data
+// (see ForeignImage::negative_values) and are counted into `img`.
+void require_radiance(ForeignImage& img, const std::string& channel, const std::vector<double>& v) {
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (!std::isfinite(v[i]))
+      throw Error(fmt::format("image '{}' has radiance {} in channel '{}' at pixel {}; radiance must be finite.",
+                              img.path, float(v[i]), channel, pixel_name(i, img.width)));
+    if (v[i] >= 0) continue;
+    ++img.negative_values;
+    if (v[i] < img.most_negative) {
+      img.most_negative = v[i];
+      img.most_negative_channel = channel;
+      img.most_negative_x = int(i % size_t(img.width));
+      img.most_negative_y = int(i / size_t(img.width));
+    }
+  }
+}
+
+// The spp the header states (ForeignImage::stated_spp): furnace's own
+// attribute, pbrt-v4's int samplesPerPixel, or Blender's
+// cycles.<view layer>.samples string.
+void read_stated_spp(const exr::Image& file, ForeignImage& img) {
+  // Decimal digits of a positive whole number below 10¹⁵, else not a
+  // statement of the spp.
+  const auto whole = [](const std::string& text) {
+    if (text.empty() || text.size() > 15 || text.find_first_not_of("0123456789") != std::string::npos) return false;
+    return std::stoll(text) >= 1;
+  };
+  std::string spp, attribute;
+  if (!img.provenance.spp.empty()) {
+    spp = img.provenance.spp;
+    attribute = "furnace.spp";
+  } else if (const auto n = file.numbers.find(kPbrtSppAttribute); n != file.numbers.end()) {
+    spp = fmt::format("{}", n->second);
+    attribute = kPbrtSppAttribute;
+  } else {
+    for (const auto& [name, value] : file.attributes)
+      if (name.size() > kCyclesPrefix.size() + kCyclesSuffix.size() && name.rfind(kCyclesPrefix, 0) == 0 &&
+          name.compare(name.size() - kCyclesSuffix.size(), kCyclesSuffix.size(), kCyclesSuffix) == 0) {
+        spp = value;
+        attribute = name;
+        break;
+      }
+  }
+  if (!whole(spp)) return;
+  img.stated_spp = spp;
+  img.spp_attribute = attribute;
 }
 
 void require_variance(const std::string& path, const std::string& channel, const std::vector<double>& v, int width) {
@@ -75,7 +122,12 @@ ForeignImage read_image(const std::string& path, const Scene* scene, ChannelMode
     if (rgb) planes.push_back(file.values(c));
   if (!rgb) planes.push_back(file.values("Y"));
   img.source_channels = rgb ? "R, G, B" : "Y";
-  for (size_t c = 0; c < planes.size(); ++c) require_radiance(path, rgb ? kRgb[c] : "Y", planes[c], img.width);
+  for (size_t c = 0; c < planes.size(); ++c) require_radiance(img, rgb ? kRgb[c] : "Y", planes[c]);
+  for (const exr::ChannelInfo& info : file.channels)
+    if (info.type == exr::PixelType::kHalf &&
+        (rgb ? (info.name == "R" || info.name == "G" || info.name == "B") : info.name == "Y"))
+      img.half_float = true;
+  read_stated_spp(file, img);
 
   const bool furnace_exr = rgb && file.has_channel(kVarianceRgb[0]) && file.has_channel(kVarianceRgb[1]) &&
                            file.has_channel(kVarianceRgb[2]) && file.has_channel(kCountChannel);
@@ -135,6 +187,27 @@ void reject_identical_images(const std::vector<ForeignImage>& images, const std:
                               "are needed to measure the spread.",
                               images[a].path, images[b].path));
     }
+}
+
+NegativeValues count_negative_values(const std::vector<ForeignImage>& images) {
+  NegativeValues n;
+  for (const ForeignImage& img : images) {
+    if (img.negative_values == 0) continue;
+    n.values += img.negative_values;
+    ++n.images;
+    if (img.most_negative < n.most_negative) {
+      n.most_negative = img.most_negative;
+      n.path = img.path;
+      n.channel = img.most_negative_channel;
+      n.x = img.most_negative_x;
+      n.y = img.most_negative_y;
+    }
+  }
+  return n;
+}
+
+bool any_half_float(const std::vector<ForeignImage>& images) {
+  return std::any_of(images.begin(), images.end(), [](const ForeignImage& img) { return img.half_float; });
 }
 
 }  // namespace furnace::verify

@@ -34,15 +34,35 @@ struct ForeignImage {
   std::vector<std::vector<double>> variance;
   std::vector<double> count;
   ImageProvenance provenance;  // empty for other renderers' images
+  // The samples per pixel the file's header states, as written there, and the
+  // attribute it came from: furnace's furnace.spp, pbrt-v4's samplesPerPixel
+  // (an int attribute), or Blender's cycles.<view layer>.samples. Empty when
+  // the header states none or something other than a positive whole number.
+  std::string stated_spp, spp_attribute;
+  // A tested radiance channel (R, G, B or Y) is stored as a 16-bit HALF
+  // (pbrt-v4's default output): its values are rounded to 11 significant
+  // bits (a relative step of 2⁻¹⁰ to 2⁻¹¹), so K renders of a pixel whose
+  // noise is smaller than that step repeat the same few values.
+  bool half_float = false;
+  // Finite negative values in the radiance channels (R, G, B or Y), counted
+  // over every channel and pixel: data, used as is. A spectral renderer's
+  // RGB film holds small ones where a sampled spectrum maps outside the RGB
+  // gamut (pbrt-v4: −1.5e-4 to −2e-6 in 8 of 58 renders of one scene). The
+  // most negative value and where it is, for the report.
+  size_t negative_values = 0;
+  double most_negative = 0;
+  std::string most_negative_channel;
+  int most_negative_x = 0, most_negative_y = 0;
   bool has_variance() const { return !variance.empty(); }
 };
 
 // Reads and validates one image. Throws furnace::Error, one sentence naming
 // the file (and the pixel, channel and value where one is at fault), for:
 // an unreadable file or non-OpenEXR file; a resolution differing from the
-// scene's camera; no R, G and B channels (nor Y, for kGray); a negative, NaN
-// or infinite radiance in R, G, B or Y; a NaN, infinite or negative
-// variance.* channel; a sample count N that is not a positive integer.
+// scene's camera; no R, G and B channels (nor Y, for kGray); a NaN or
+// infinite radiance in R, G, B or Y; a NaN, infinite or negative variance.*
+// channel; a sample count N that is not a positive integer. Finite negative
+// radiance is accepted and counted (ForeignImage::negative_values).
 ForeignImage read_foreign_image(const std::string& path, const Scene& scene, ChannelMode mode);
 // The same without a scene (furnace compare): any resolution is accepted.
 ForeignImage read_foreign_image(const std::string& path, ChannelMode mode);
@@ -53,5 +73,19 @@ ForeignImage read_foreign_image(const std::string& path, ChannelMode mode);
 // that reproduce `reference` exactly (a zero-variance estimator, identical
 // whatever the seed) are accepted.
 void reject_identical_images(const std::vector<ForeignImage>& images, const std::vector<double>& reference);
+
+// Negative values over a set of images (one side of a comparison, or the
+// images of a check), for the reports.
+struct NegativeValues {
+  size_t values = 0;  // summed over the images' radiance channels and pixels
+  int images = 0;     // images holding any
+  double most_negative = 0;
+  std::string path, channel;  // where the most negative value is
+  int x = 0, y = 0;
+};
+NegativeValues count_negative_values(const std::vector<ForeignImage>& images);
+
+// True when any image stores a tested radiance channel as HALF.
+bool any_half_float(const std::vector<ForeignImage>& images);
 
 }  // namespace furnace::verify

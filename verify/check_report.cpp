@@ -99,9 +99,10 @@ std::string format_check(const Scene& scene, const CheckReference& reference, co
     std::string untested =
         c.pixels_untested > 0 ? fmt::format(", {} untested (constant yet off the reference)", c.pixels_untested) : "";
     if (c.pixels_few_values > 0)
-      untested += fmt::format(", {} untested (their {} values take at most {} distinct values, as a quasi-Monte Carlo "
-                              "or quantised render gives: the spread does not estimate their error)",
-                              c.pixels_few_values, r.images, r.images / kFewValuesDivisor);
+      untested += fmt::format(", {} untested (their {} values take at most {} distinct values, {}: the spread does "
+                              "not estimate their error)",
+                              c.pixels_few_values, r.images, r.images / kFewValuesDivisor,
+                              repeated_values_reason(r.half_float));
     out += fmt::format("pixels{}: {}/{} fail{} (critical |t| {:.3g}, {}), median detectable pixel bias {}: {}; "
                        "relative RMSE {:.3e}\n",
                        label, c.pixel_failures, r.pixels, untested, c.pixel_threshold, dof_text(c.pixel_dof),
@@ -111,6 +112,10 @@ std::string format_check(const Scene& scene, const CheckReference& reference, co
                                                  percent_text(c.median_pixel_detectable_relative_bias)),
                        c.relative_rmse);
   }
+  if (r.negative.values > 0)
+    out += negative_values_text("the images", r.negative, r.images) +
+           "  (the reference is non-negative: the tests above include them; many or large ones are a bias they may "
+           "find)\n";
   out += "worst pixels (x, y, channel: value, reference, t):\n";
   for (const WorstPixel& w : r.worst_pixels)
     out += fmt::format("  ({}, {}) {}: {:.6g}, {:.6g}, {:.3g}{}\n", w.x, w.y, w.channel, w.value, w.reference, w.t,
@@ -134,10 +139,17 @@ json check_json(const Scene& scene, const std::string& scene_hash, const CheckRe
   for (const ForeignImage& img : images) {
     json p = json::object();
     for (const auto& [name, value] : img.provenance.attributes()) p[name] = value;
-    image_list.push_back({{"path", img.path}, {"has_variance", img.has_variance()}, {"provenance", p}});
+    image_list.push_back({{"path", img.path},
+                          {"has_variance", img.has_variance()},
+                          {"provenance", p},
+                          {"stated_spp", img.stated_spp.empty() ? json(nullptr) : json(std::stoll(img.stated_spp))},
+                          {"half_float", img.half_float},
+                          {"negative_values", img.negative_values}});
   }
   j["images"] = image_list;
   j["image_count"] = r.images;
+  j["negative_values"] = negative_values_json(r.negative);
+  j["half_float"] = r.half_float;
   j["pixels"] = r.pixels;
   j["pixel_tests"] = r.pixels * int(r.channels.size());
   j["channels_mode"] = channel_mode_name(channels_mode);

@@ -176,12 +176,13 @@ double critical_t(double dof, double alpha) {
   return boost::math::quantile(boost::math::complement(boost::math::students_t_distribution<double>(dof), alpha / 2));
 }
 
-// The spp of a side's images: the provenance's when all state the same, else
-// a furnace EXR's median N, else 0.
+// The spp of a side's images: the one their headers state (furnace's,
+// pbrt-v4's or Blender's attribute) when all state the same, else a furnace
+// EXR's median N, else 0.
 double side_spp(const CompareSide& side) {
-  const std::string first = side.images[0].provenance.spp;
+  const std::string first = side.images[0].stated_spp;
   bool same = !first.empty();
-  for (const ForeignImage& img : side.images) same = same && img.provenance.spp == first;
+  for (const ForeignImage& img : side.images) same = same && img.stated_spp == first;
   if (same) return std::stod(first);
   if (side.furnace_variance()) return stats::median(side.images[0].count);
   return 0;
@@ -206,7 +207,8 @@ void test_tiles(const SideChannel& a, const SideChannel& b, int width, int heigh
                 ChannelComparison& cc, std::vector<double>& tile_t) {
   cc.tile_alpha = alpha;
   const double z = stats::normal_upper_quantile(alpha / 2);
-  std::vector<double> relative_se, dofs;
+  std::vector<double> relative_se, dofs, all_dofs;
+  double worst_dof = kInf;
   for (int y0 = 0; y0 < height; y0 += tile)
     for (int x0 = 0; x0 < width; x0 += tile) {
       const Region r{x0, y0, std::min(x0 + tile, width), std::min(y0 + tile, height)};
@@ -215,10 +217,12 @@ void test_tiles(const SideChannel& a, const SideChannel& b, int width, int heigh
       tile_t.push_back(w.statistic);
       ++cc.tiles;
       if (welch_rejects(w, alpha, z)) ++cc.tile_failures;
+      if (w.standard_error > 0) all_dofs.push_back(w.dof);
       if (std::fabs(w.statistic) > std::fabs(cc.worst_tile_t) || cc.tiles == 1) {
         cc.worst_tile_t = w.statistic;
         cc.worst_tile_x = x0;
         cc.worst_tile_y = y0;
+        worst_dof = w.standard_error > 0 ? w.dof : kInf;
       }
       if (eb.mean > 0 && w.standard_error > 0) {
         relative_se.push_back(w.standard_error / eb.mean);
@@ -228,6 +232,8 @@ void test_tiles(const SideChannel& a, const SideChannel& b, int width, int heigh
   PowerFactor power(alpha);
   cc.median_tile_detectable_relative_difference =
       relative_se.empty() ? 0 : power(stats::median(dofs)) * stats::median(relative_se);
+  cc.tile_threshold = critical_t(all_dofs.empty() ? kInf : stats::median(all_dofs), alpha);
+  cc.worst_tile_threshold = critical_t(worst_dof, alpha);
 }
 
 void test_pixels(const SideChannel& a, const SideChannel& b, size_t n, double alpha, ChannelComparison& cc,
@@ -237,6 +243,7 @@ void test_pixels(const SideChannel& a, const SideChannel& b, size_t n, double al
   std::vector<double> relative_se, dofs;
   pixel_t.assign(n, 0.0);
   bool first = true;
+  double worst_dof = kInf;
   for (size_t i = 0; i < n; ++i) {
     const stats::MeanEstimate ea = a.pixel(i), eb = b.pixel(i);
     const stats::WelchStatistic w = welch(ea, eb);
@@ -255,6 +262,7 @@ void test_pixels(const SideChannel& a, const SideChannel& b, size_t n, double al
       cc.worst_pixel_t = w.statistic;
       cc.worst_pixel_x = int(i % size_t(a.width()));
       cc.worst_pixel_y = int(i / size_t(a.width()));
+      worst_dof = w.standard_error > 0 ? w.dof : kInf;
     }
     if (eb.mean > 0 && w.standard_error > 0) {
       relative_se.push_back(w.standard_error / eb.mean);
@@ -266,6 +274,7 @@ void test_pixels(const SideChannel& a, const SideChannel& b, size_t n, double al
   cc.median_pixel_detectable_relative_difference =
       relative_se.empty() ? 0 : power(median_dof) * stats::median(relative_se);
   median_threshold = critical_t(median_dof, alpha);
+  cc.worst_pixel_threshold = critical_t(worst_dof, alpha);
 }
 
 void test_variance_ratio(const SideChannel& a, const SideChannel& b, size_t n, double alpha, ChannelComparison& cc) {
@@ -402,6 +411,10 @@ CompareResult compare_renders(const CompareSide& a, const CompareSide& b, double
   const ForeignImage& first = a.images[0];
   r.images_a = int(a.images.size());
   r.images_b = int(b.images.size());
+  r.negative_a = count_negative_values(a.images);
+  r.negative_b = count_negative_values(b.images);
+  r.half_float_a = any_half_float(a.images);
+  r.half_float_b = any_half_float(b.images);
   r.width = first.width;
   r.height = first.height;
   r.tile_size = tile_size;

@@ -31,8 +31,11 @@
 //    values of a render are means over its samples, close to normal); pixels
 //    are taken as independent. The same mean with more noise (a sampler that
 //    got worse) fails only this test, reported separately.
+// Finite negative values (a spectral renderer's RGB film) are data: every
+// test uses them as they are, and the result counts them per side.
 // Pixels whose values repeat (has_few_distinct_values: a quasi-Monte Carlo
-// render, or a discrete estimate such as k light hits of 16 samples), or
+// render, a discrete estimate such as k light hits of 16 samples, or 16-bit
+// half floats whose rounding step exceeds the pixel's noise), or
 // that are constant on each side at different values (all K renders of side
 // A hit the light 0 times, all of B once), are not pixel-tested: their
 // spread says nothing of their error. The tile and image tests still see
@@ -103,6 +106,8 @@ struct ChannelComparison {
   double tile_alpha = 0;
   double worst_tile_t = 0;                                // largest |t| (signed)
   int worst_tile_x = 0, worst_tile_y = 0;                 // its top-left pixel
+  double worst_tile_threshold = 0;                        // critical |t| at the worst tile's d.o.f.
+  double tile_threshold = 0;                              // critical |t| at the median tile's d.o.f.
   double median_tile_detectable_relative_difference = 0;  // over tiles with mean_b > 0
   // Pixels.
   int pixel_failures = 0;
@@ -110,6 +115,7 @@ struct ChannelComparison {
   double pixel_alpha = 0;
   double worst_pixel_t = 0;
   int worst_pixel_x = 0, worst_pixel_y = 0;
+  double worst_pixel_threshold = 0;  // critical |t| at the worst tested pixel's d.o.f.
   double median_pixel_detectable_relative_difference = 0;  // over pixels with mean_b > 0
   // Variance (not run when the comparison leaves it out: variance_tested false).
   bool variance_tested = true;
@@ -136,6 +142,12 @@ struct CompareAdvice {
 
 struct CompareResult {
   int images_a = 0, images_b = 0;
+  // Finite negative values on each side: data, used as is (a spectral
+  // renderer's RGB film holds small ones); counted for the report.
+  NegativeValues negative_a, negative_b;
+  // A side stores its radiance as 16-bit half floats: its repeating pixel
+  // values are half-float rounding, not a quasi-Monte Carlo pattern.
+  bool half_float_a = false, half_float_b = false;
   int width = 0, height = 0, tile_size = 0;
   std::string method_a, method_b;  // "K renders" or "furnace variance"
   double alpha = 0, max_detectable_difference = 0;

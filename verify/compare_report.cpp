@@ -81,11 +81,27 @@ std::vector<std::string> compare_warnings(const CompareSide& a, const CompareSid
   if (!pa.scene.empty() && !pb.scene.empty() && pa.scene != pb.scene)
     warnings.push_back(fmt::format("image '{}' says it renders scene '{}' but '{}' says '{}'.", a.images[0].path,
                                    pa.scene, b.images[0].path, pb.scene));
-  if (!pa.spp.empty() && !pb.spp.empty() && pa.spp != pb.spp)
+  // The spp the headers state (furnace.spp, pbrt-v4's samplesPerPixel,
+  // Blender's cycles.<layer>.samples): within a side, then across sides.
+  const auto side_spp_warning = [&](const CompareSide& side, const char* name) {
+    for (const ForeignImage& img : side.images)
+      if (!img.stated_spp.empty() && !side.images[0].stated_spp.empty() && img.stated_spp != side.images[0].stated_spp)
+        return fmt::format("side {} mixes spp: image '{}' states {} ({}) but '{}' states {} ({}); its renders are not "
+                           "one distribution, so its spread is not their error.",
+                           name, side.images[0].path, side.images[0].stated_spp, side.images[0].spp_attribute,
+                           img.path, img.stated_spp, img.spp_attribute);
+    return std::string();
+  };
+  for (const std::string& w : {side_spp_warning(a, "A"), side_spp_warning(b, "B")})
+    if (!w.empty()) warnings.push_back(w);
+  const ForeignImage& ia = a.images[0];
+  const ForeignImage& ib = b.images[0];
+  if (!ia.stated_spp.empty() && !ib.stated_spp.empty() && ia.stated_spp != ib.stated_spp)
     warnings.push_back(
-        fmt::format("image '{}' has {} spp but '{}' has {}; the variance test compares the noise of one "
-                    "render, which differs with the spp.",
-                    a.images[0].path, pa.spp, b.images[0].path, pb.spp));
+        fmt::format("image '{}' states {} spp ({}) but '{}' states {} ({}); the means may still agree, but the "
+                    "variance test compares the noise of one render, which differs with the spp (leave it out "
+                    "with --no-variance-test).",
+                    ia.path, ia.stated_spp, ia.spp_attribute, ib.path, ib.stated_spp, ib.spp_attribute));
   return warnings;
 }
 
@@ -114,19 +130,21 @@ std::string format_compare(const CompareResult& r) {
         dof_text(cc.dof), cc.image_mean_pass ? "same" : "DIFFERENT", percent_text(cc.detectable_relative_difference),
         power ? fmt::format("has power (<= {})", percent_text(r.max_detectable_difference))
               : fmt::format("LOW POWER (> {})", percent_text(r.max_detectable_difference)));
-    out +=
-        fmt::format("tiles{}: {}/{} differ (worst t {:.3g} at tile ({}, {})), median detectable tile difference {}\n",
-                    label, cc.tile_failures, cc.tiles, cc.worst_tile_t, cc.worst_tile_x, cc.worst_tile_y,
-                    percent_text(cc.median_tile_detectable_relative_difference));
-    const std::string few = cc.pixels_few_values > 0
-                                ? fmt::format(", {} untested (their values repeat, as a quasi-Monte Carlo render's do)",
-                                              cc.pixels_few_values)
-                                : "";
+    out += fmt::format(
+        "tiles{}: {}/{} differ (critical |t| {:.3g} for the median tile; worst t {:.3g} at tile ({}, {}), "
+        "critical {:.3g} there), median detectable tile difference {}\n",
+        label, cc.tile_failures, cc.tiles, cc.tile_threshold, cc.worst_tile_t, cc.worst_tile_x, cc.worst_tile_y,
+        cc.worst_tile_threshold, percent_text(cc.median_tile_detectable_relative_difference));
+    const std::string few =
+        cc.pixels_few_values > 0
+            ? fmt::format(", {} untested (their values repeat: {})", cc.pixels_few_values,
+                          repeated_values_reason(r.half_float_a || r.half_float_b))
+            : "";
     out += fmt::format(
         "pixels{}: {}/{} differ{} (critical |t| {:.3g} for the median pixel; worst t {:.3g} at ({}, "
-        "{})), median detectable pixel difference {}\n",
+        "{}), critical {:.3g} there), median detectable pixel difference {}\n",
         label, cc.pixel_failures, r.width * r.height, few, r.pixel_threshold[c], cc.worst_pixel_t, cc.worst_pixel_x,
-        cc.worst_pixel_y, percent_text(cc.median_pixel_detectable_relative_difference));
+        cc.worst_pixel_y, cc.worst_pixel_threshold, percent_text(cc.median_pixel_detectable_relative_difference));
     if (!cc.variance_tested)
       out += fmt::format("variance{}: not tested (--no-variance-test)\n", label);
     else
@@ -136,8 +154,17 @@ std::string format_compare(const CompareResult& r) {
           label, cc.variance_ratio, cc.variance_statistic, cc.variance_threshold,
           cc.variance_pass ? "same" : "DIFFERENT", cc.detectable_variance_ratio);
   }
+  out += negative_values_text("side A", r.negative_a, r.images_a);
+  out += negative_values_text("side B", r.negative_b, r.images_b);
   if (!r.rejected.empty()) out += fmt::format("different in: {}\n", joined(r.rejected));
   if (r.advice.needed) out += advice_text(r);
+  if (r.verdict == CompareVerdict::kSame)
+    out += fmt::format(
+        "SAME means no difference of the stated size: none of {} or more of the image mean (found with power {}; "
+        "this comparison detects {}), and none in a tile, pixel{} at its own level; a smaller difference may "
+        "remain\n",
+        percent_text(r.max_detectable_difference), stats::kReportedPower,
+        percent_text(r.detectable_relative_difference), r.families == kCompareFamilies ? " or the variance" : "");
   out += fmt::format("verdict: {}\n", verdict_name(r.verdict));
   return out;
 }
@@ -146,13 +173,17 @@ json compare_json(const CompareSide& a, const CompareSide& b, const CompareResul
                   const std::vector<std::string>& warnings, ChannelMode channels_mode, const std::string& zmap_path) {
   json j;
   j["command"] = "compare";
-  auto side = [](const CompareSide& s, const std::string& method) {
-    json paths = json::array();
-    for (const ForeignImage& img : s.images) paths.push_back(img.path);
-    return json{{"images", paths}, {"image_count", s.images.size()}, {"method", method}};
+  auto side = [](const CompareSide& s, const std::string& method, const NegativeValues& negative, bool half) {
+    json paths = json::array(), spp = json::array();
+    for (const ForeignImage& img : s.images) {
+      paths.push_back(img.path);
+      spp.push_back(img.stated_spp.empty() ? json(nullptr) : json(std::stoll(img.stated_spp)));
+    }
+    return json{{"images", paths},      {"image_count", s.images.size()}, {"method", method},
+                {"stated_spp", spp},    {"half_float", half},             {"negative_values", negative_values_json(negative)}};
   };
-  j["a"] = side(a, r.method_a);
-  j["b"] = side(b, r.method_b);
+  j["a"] = side(a, r.method_a, r.negative_a, r.half_float_a);
+  j["b"] = side(b, r.method_b, r.negative_b, r.half_float_b);
   j["width"] = r.width;
   j["height"] = r.height;
   j["tile_size"] = r.tile_size;
@@ -184,6 +215,8 @@ json compare_json(const CompareSide& a, const CompareSide& b, const CompareResul
            {"worst_t", json_number(cc.worst_tile_t)},
            {"worst_x", cc.worst_tile_x},
            {"worst_y", cc.worst_tile_y},
+           {"worst_threshold", json_number(cc.worst_tile_threshold)},
+           {"median_threshold", json_number(cc.tile_threshold)},
            {"median_detectable_relative_difference", json_number(cc.median_tile_detectable_relative_difference)}}},
          {"pixels",
           {{"failures", cc.pixel_failures},
@@ -193,6 +226,7 @@ json compare_json(const CompareSide& a, const CompareSide& b, const CompareResul
            {"worst_t", json_number(cc.worst_pixel_t)},
            {"worst_x", cc.worst_pixel_x},
            {"worst_y", cc.worst_pixel_y},
+           {"worst_threshold", json_number(cc.worst_pixel_threshold)},
            {"median_detectable_relative_difference", json_number(cc.median_pixel_detectable_relative_difference)}}},
          {"variance",
           {{"tested", cc.variance_tested},

@@ -16,6 +16,30 @@ std::string percent_text(double relative) {
   return std::isfinite(relative) ? fmt::format("{:.3g}%", 100 * relative) : "inf";
 }
 
+std::string repeated_values_reason(bool half_float) {
+  return half_float ? "the images store 16-bit half floats, whose rounding (11 significant bits) is coarser than "
+                      "these pixels' noise: half-float rounding, not a quasi-Monte Carlo pattern"
+                    : "as a quasi-Monte Carlo or quantised (discrete) render gives";
+}
+
+std::string negative_values_text(const std::string& what, const NegativeValues& n, int images) {
+  if (n.values == 0) return "";
+  return fmt::format("negative values ({}): {} in {} of {} image(s), the most negative {:.6g} in channel '{}' at "
+                     "pixel ({}, {}) of '{}'; finite, so used as is (a spectral renderer's RGB film makes small ones)\n",
+                     what, n.values, n.images, images, n.most_negative, n.channel, n.x, n.y, n.path);
+}
+
+nlohmann::json negative_values_json(const NegativeValues& n) {
+  const bool any = n.values > 0;
+  return {{"values", n.values},
+          {"images", n.images},
+          {"most_negative", any ? nlohmann::json(n.most_negative) : nlohmann::json(nullptr)},
+          {"path", any ? nlohmann::json(n.path) : nlohmann::json(nullptr)},
+          {"channel", any ? nlohmann::json(n.channel) : nlohmann::json(nullptr)},
+          {"x", any ? nlohmann::json(n.x) : nlohmann::json(nullptr)},
+          {"y", any ? nlohmann::json(n.y) : nlohmann::json(nullptr)}};
+}
+
 nlohmann::json json_number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 void add_outcome(nlohmann::json& j, const std::vector<std::string>& warnings, const std::string& zmap_path,

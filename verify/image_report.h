@@ -10,10 +10,25 @@
 
 #include <nlohmann/json.hpp>
 
+#include "verify/check_image.h"
+
 namespace furnace::verify {
 
 // A relative number as a percentage ("1.23%"), "inf" when not finite.
 std::string percent_text(double relative);
+
+// Why K values of a pixel repeat, for the reports' untested pixels: 16-bit
+// half-float rounding when the images store halves, else a quasi-Monte
+// Carlo or quantised (discrete) render.
+std::string repeated_values_reason(bool half_float);
+
+// One line on a set of images' finite negative values ("" when none): how
+// many, in how many images, the most negative and where, and that they are
+// used as is. `what` names the set ("side A", "the images").
+std::string negative_values_text(const std::string& what, const NegativeValues& n, int images);
+// Their JSON: {"values", "images", "most_negative", "path", "channel", "x", "y"}
+// (the last five null when there are none).
+nlohmann::json negative_values_json(const NegativeValues& n);
 
 // `v`, or null when it is not finite (a t of ±inf): the reports' JSON holds
 // no non-finite numbers.

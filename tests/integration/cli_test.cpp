@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -391,23 +392,37 @@ TEST_F(CheckCommand, TwoRendersAreInconclusiveAndSayWhatWouldSuffice) {
   EXPECT_NE(r.output.find("images at 256 spp"), std::string::npos) << r.output;
 }
 
-TEST_F(CheckCommand, NegativeImageIsBadInputNamingFilePixelAndValue) {
-  furnace::exr::Image minus_one;
-  minus_one.width = minus_one.height = 32;
+TEST_F(CheckCommand, NanImageIsBadInputAndANegativeImageIsCounted) {
+  // NaN radiance is bad input (a finite negative value is data since issue
+  // 41: an all −1 image is read, fails against the reference, and is counted).
+  furnace::exr::Image nan_image, minus_one;
+  nan_image.width = nan_image.height = minus_one.width = minus_one.height = 32;
+  for (const char* c : {"R", "G", "B"}) nan_image.floats[c].assign(32 * 32, std::numeric_limits<float>::quiet_NaN());
   for (const char* c : {"R", "G", "B"}) minus_one.floats[c].assign(32 * 32, -1.0f);
-  const std::string bad = (dir_ / "minus_one.exr").string();
-  furnace::exr::write(bad, minus_one);
+  const std::string bad = (dir_ / "nan.exr").string(), negative = (dir_ / "minus_one.exr").string();
+  furnace::exr::write(bad, nan_image);
+  furnace::exr::write(negative, minus_one);
   const std::string json = (dir_ / "bad.json").string();
   const Result r = run_cli("check --scene " + kDisk + " --image " + render(kDisk, 1, "none") + " --image " + bad +
                            " --json " + json);
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find(bad), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("(0, 0)"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("-1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("nan"), std::string::npos) << r.output;
   std::ifstream in(json);
   const auto j = nlohmann::json::parse(in);
   EXPECT_EQ(j.at("exit_code"), 2);
   EXPECT_EQ(j.at("verdict"), "BAD INPUT");
+  const std::string counted_json = (dir_ / "negative.json").string();
+  const Result counted = run_cli("check --scene " + kDisk + " --image " + render(kDisk, 1, "none") + " --image " +
+                                 negative + " --json " + counted_json);
+  // Read and tested as is: two images (1 d.o.f., critical t 127) cannot
+  // reject even an all −1 image, and lack power, so INCONCLUSIVE, not bad input.
+  EXPECT_EQ(counted.exit_code, 3) << counted.output;
+  EXPECT_NE(counted.output.find("negative values (the images): 3072 in 1 of 2 image(s)"), std::string::npos)
+      << counted.output;
+  std::ifstream counted_in(counted_json);
+  EXPECT_EQ(nlohmann::json::parse(counted_in).at("negative_values").at("values"), 3 * 32 * 32);
 }
 
 TEST_F(CheckCommand, SameImageTwiceIsBadInputNamingBoth) {

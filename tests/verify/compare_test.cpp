@@ -20,6 +20,13 @@
 #include <vector>
 
 #include <boost/math/distributions/binomial.hpp>
+#include <boost/math/distributions/students_t.hpp>
+#include <fmt/format.h>
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfOutputFile.h>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
@@ -29,6 +36,7 @@
 #include "tests/command.h"
 #include "verify/compare.h"
 #include "verify/compare_report.h"
+#include "verify/image_report.h"
 
 namespace furnace::verify {
 namespace {
@@ -58,6 +66,9 @@ struct Synthetic {
   double gain = 1;
   double tile_gain = 1;
   double r_gain = 1, b_gain = 1;  // colour (rgb mode): R and B scaled, G not
+  // Absolute noise of row 0, whose expected value is 0 (a black pixel of a
+  // spectral renderer's RGB film): about half its values are negative.
+  double zero_row_noise = 0;
   uint64_t seed = kSeedA;
   ChannelMode mode = ChannelMode::kGray;
   // Setters, so that a test names what it changes: Synthetic().set_k(2).set_sigma(0.1).
@@ -93,6 +104,10 @@ struct Synthetic {
     mode = v;
     return *this;
   }
+  Synthetic& set_zero_row_noise(double v) {
+    zero_row_noise = v;
+    return *this;
+  }
 };
 
 CompareSide synthetic(const Synthetic& s, const std::string& name = "s") {
@@ -112,13 +127,25 @@ CompareSide synthetic(const Synthetic& s, const std::string& name = "s") {
       const int x = int(i % kSize), y = int(i / kSize);
       const bool in_tile = x >= 8 && x < 16 && y >= 8 && y < 16;
       // Stored as 32-bit floats, as an EXR holds them.
-      const double v = base(i) * s.gain * (in_tile ? s.tile_gain : 1.0) * (1 + s.sigma * noise(rng));
+      const double u = noise(rng);
+      const double v = y == 0 && s.zero_row_noise > 0
+                           ? s.zero_row_noise * u
+                           : base(i) * s.gain * (in_tile ? s.tile_gain : 1.0) * (1 + s.sigma * u);
       if (rgb) {
         img.value[0][i] = float(v * s.r_gain);
         img.value[1][i] = float(v);
         img.value[2][i] = float(v * s.b_gain);
       } else {
         img.value[0][i] = float(v);
+      }
+      if (v < 0) {
+        img.negative_values += rgb ? 3 : 1;
+        if (v < img.most_negative) {
+          img.most_negative = v;
+          img.most_negative_channel = rgb ? "R" : "gray";
+          img.most_negative_x = x;
+          img.most_negative_y = y;
+        }
       }
     }
     side.images.push_back(std::move(img));
@@ -323,6 +350,189 @@ TEST(Compare, OneFurnaceExrPerSide) {
 }
 
 // ---------------------------------------------------------------------------
+// Real renders (issue 41): negative values are data, half floats explain
+// repeating values, the report prints every critical t and what SAME means.
+
+// Row 0 of every render has expected value 0 and absolute noise
+// kZeroRowNoise (a black region of a spectral renderer's film): about half of
+// its 8 × 32 values per side are negative. They are used as is: the verdict
+// is the one without them, they are counted, and a 2 % difference is still
+// DIFFERENT with them (the negative control).
+constexpr double kZeroRowNoise = 1.5e-4;
+
+TEST(Compare, NegativeNoiseIsDataAndKeepsTheVerdict) {
+  const CompareSide a = synthetic(Synthetic().set_zero_row_noise(kZeroRowNoise));
+  const CompareSide b = synthetic(Synthetic().set_zero_row_noise(kZeroRowNoise).set_seed(kSeedB));
+  const CompareResult r = compare_renders(a, b, kAlpha, kDefaultMaxDetectableDifference);
+  const CompareResult plain = compare_renders(synthetic(Synthetic()), synthetic(Synthetic().set_seed(kSeedB)), kAlpha,
+                                              kDefaultMaxDetectableDifference);
+  EXPECT_EQ(plain.verdict, CompareVerdict::kSame) << format_compare(plain);
+  EXPECT_EQ(r.verdict, plain.verdict) << format_compare(r);
+  size_t expected = 0;
+  for (const ForeignImage& img : a.images)
+    for (double v : img.value[0]) expected += v < 0 ? 1 : 0;
+  EXPECT_GT(expected, 8u * kSize / 4);  // about half of 256
+  EXPECT_EQ(r.negative_a.values, expected);
+  EXPECT_EQ(r.negative_a.images, 8);
+  EXPECT_LT(r.negative_a.most_negative, 0);
+  EXPECT_EQ(r.negative_a.y, 0);
+  EXPECT_EQ(plain.negative_a.values, 0u);
+  const std::string text = format_compare(r);
+  EXPECT_NE(text.find(fmt::format("negative values (side A): {} in 8 of 8 image(s)", expected)), std::string::npos)
+      << text;
+  EXPECT_EQ(format_compare(plain).find("negative values"), std::string::npos);
+  const nlohmann::json j = compare_json(a, b, r, {}, ChannelMode::kGray, "");
+  EXPECT_EQ(j["a"]["negative_values"]["values"], expected);
+  EXPECT_EQ(j["b"]["negative_values"]["values"], r.negative_b.values);
+  const CompareResult shifted = compare_renders(synthetic(Synthetic().set_zero_row_noise(kZeroRowNoise).set_gain(1.02)),
+                                                b, kAlpha, kDefaultMaxDetectableDifference);
+  EXPECT_EQ(shifted.verdict, CompareVerdict::kDifferent) << format_compare(shifted);
+  EXPECT_TRUE(has(shifted.rejected, "mean"));
+}
+
+// `value` rounded to a 16-bit half float's 11 significant bits (normal range).
+double half_rounded(double value) {
+  int exponent = 0;
+  const double mantissa = std::frexp(value, &exponent);  // in [0.5, 1)
+  return std::ldexp(std::nearbyint(std::ldexp(mantissa, 11)), exponent - 11);
+}
+
+// Pixels whose noise is below a half float's step repeat their values; the
+// report says why: half-float rounding when the images are halves, the
+// quasi-Monte Carlo or discrete reading otherwise (the negative control).
+TEST(Compare, RepeatedHalfFloatValuesAreNamedAsRounding) {
+  const double sigma = 1e-4;  // a tenth of the half step at [0.5, 1.5]: 2^-11 to 2^-10
+  CompareSide a = synthetic(Synthetic().set_sigma(sigma)), b = synthetic(Synthetic().set_sigma(sigma).set_seed(kSeedB));
+  for (CompareSide* side : {&a, &b})
+    for (ForeignImage& img : side->images)
+      for (double& v : img.value[0]) v = half_rounded(v);
+  const CompareResult as_floats = compare_renders(a, b, kAlpha, kDefaultMaxDetectableDifference);
+  ASSERT_GT(as_floats.channels[0].pixels_few_values, 0) << format_compare(as_floats);
+  EXPECT_NE(format_compare(as_floats).find("quasi-Monte Carlo"), std::string::npos);
+  for (ForeignImage& img : a.images) img.half_float = true;
+  const CompareResult as_halves = compare_renders(a, b, kAlpha, kDefaultMaxDetectableDifference);
+  EXPECT_TRUE(as_halves.half_float_a);
+  const std::string text = format_compare(as_halves);
+  EXPECT_NE(text.find("half-float rounding, not a quasi-Monte Carlo pattern"), std::string::npos) << text;
+  EXPECT_EQ(compare_json(a, b, as_halves, {}, ChannelMode::kGray, "")["a"]["half_float"], true);
+}
+
+TEST(Compare, SidesStatingDifferentSppAreWarnedOf) {
+  CompareSide a = synthetic(Synthetic()), b = synthetic(Synthetic().set_seed(kSeedB));
+  EXPECT_TRUE(compare_warnings(a, b).empty());  // nothing stated: nothing to warn of
+  for (ForeignImage& img : a.images) img.stated_spp = "64", img.spp_attribute = "samplesPerPixel";
+  for (ForeignImage& img : b.images) img.stated_spp = "64", img.spp_attribute = "samplesPerPixel";
+  EXPECT_TRUE(compare_warnings(a, b).empty());  // the same spp: none
+  for (ForeignImage& img : b.images) img.stated_spp = "256";
+  const std::vector<std::string> across = compare_warnings(a, b);
+  ASSERT_EQ(across.size(), 1u);
+  EXPECT_NE(across[0].find("states 64 spp (samplesPerPixel)"), std::string::npos) << across[0];
+  EXPECT_NE(across[0].find("states 256"), std::string::npos) << across[0];
+  a.images[3].stated_spp = "16";  // within a side too
+  const std::vector<std::string> within = compare_warnings(a, b);
+  ASSERT_EQ(within.size(), 2u);
+  EXPECT_NE(within[0].find("side A mixes spp"), std::string::npos) << within[0];
+}
+
+// The text prints the critical |t| of the median tile and pixel and of the
+// worst ones, so that a near miss can be judged from it; the critical t of a
+// Welch test with d.o.f. between 7 and 14 (two sides of 8) lies between the
+// t quantiles at those d.o.f.
+TEST(Compare, CriticalTOfTilesAndPixelsArePrinted) {
+  const CompareResult r = compare_renders(synthetic(Synthetic()), synthetic(Synthetic().set_seed(kSeedB)), kAlpha,
+                                          kDefaultMaxDetectableDifference);
+  const ChannelComparison& c = r.channels[0];
+  const auto quantile = [](double dof, double alpha) {
+    return boost::math::quantile(
+        boost::math::complement(boost::math::students_t_distribution<double>(dof), alpha / 2));
+  };
+  for (double t : {c.tile_threshold, c.worst_tile_threshold}) {
+    EXPECT_GE(t, quantile(14, c.tile_alpha));
+    EXPECT_LE(t, quantile(7, c.tile_alpha));
+  }
+  EXPECT_GE(c.worst_pixel_threshold, quantile(14, c.pixel_alpha));
+  EXPECT_LE(c.worst_pixel_threshold, quantile(7, c.pixel_alpha));
+  const std::string text = format_compare(r);
+  EXPECT_NE(text.find(fmt::format("critical |t| {:.3g} for the median tile", c.tile_threshold)), std::string::npos)
+      << text;
+  EXPECT_NE(text.find(fmt::format("critical {:.3g} there), median detectable tile", c.worst_tile_threshold)),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find(fmt::format("critical {:.3g} there), median detectable pixel", c.worst_pixel_threshold)),
+            std::string::npos)
+      << text;
+  const nlohmann::json j = compare_json(synthetic(Synthetic()), synthetic(Synthetic().set_seed(kSeedB)), r, {},
+                                        ChannelMode::kGray, "");
+  EXPECT_EQ(j["channels"][0]["tiles"]["median_threshold"], c.tile_threshold);
+  EXPECT_EQ(j["channels"][0]["tiles"]["worst_threshold"], c.worst_tile_threshold);
+  EXPECT_EQ(j["channels"][0]["pixels"]["worst_threshold"], c.worst_pixel_threshold);
+}
+
+TEST(Compare, SameSaysWhatItMeans) {
+  const CompareResult same = compare_renders(synthetic(Synthetic()), synthetic(Synthetic().set_seed(kSeedB)), kAlpha,
+                                             kDefaultMaxDetectableDifference);
+  ASSERT_EQ(same.verdict, CompareVerdict::kSame);
+  const std::string text = format_compare(same);
+  EXPECT_NE(text.find(fmt::format("SAME means no difference of the stated size: none of {} or more of the image mean "
+                                  "(found with power {}; this comparison detects {})",
+                                  percent_text(kDefaultMaxDetectableDifference), stats::kReportedPower,
+                                  percent_text(same.detectable_relative_difference))),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.substr(text.size() - 14), "verdict: SAME\n");
+  const CompareResult different = compare_renders(synthetic(Synthetic().set_gain(1.02)),
+                                                  synthetic(Synthetic().set_seed(kSeedB)), kAlpha,
+                                                  kDefaultMaxDetectableDifference);
+  EXPECT_EQ(format_compare(different).find("SAME means"), std::string::npos);
+}
+
+// ---------------------------------------------------------------------------
+// Scale: every statement is relative, so dark (mean ~1e-3) and bright (~1e3)
+// renders give the verdicts and powers of renders of mean ~1. Per scale:
+// two same-distribution sets are SAME with the detectable difference found at
+// scale 1 (float storage rounds values relatively: a 1e-4 margin), and a
+// difference of the stated size (1 %) is DIFFERENT (the negative control).
+
+class CompareAtScale : public testing::TestWithParam<double> {};
+
+TEST_P(CompareAtScale, SameDistributionIsSameWithThePowerOfScaleOne) {
+  const double scale = GetParam();
+  const CompareResult one = compare_renders(synthetic(Synthetic()), synthetic(Synthetic().set_seed(kSeedB)), kAlpha,
+                                            kDefaultMaxDetectableDifference);
+  const CompareResult r = compare_renders(synthetic(Synthetic().set_gain(scale)),
+                                          synthetic(Synthetic().set_gain(scale).set_seed(kSeedB)), kAlpha,
+                                          kDefaultMaxDetectableDifference);
+  EXPECT_EQ(r.verdict, CompareVerdict::kSame) << format_compare(r);
+  EXPECT_NEAR(r.channels[0].mean_b.mean / scale, one.channels[0].mean_b.mean, 1e-4 * one.channels[0].mean_b.mean);
+  EXPECT_NEAR(r.detectable_relative_difference, one.detectable_relative_difference,
+              1e-4 * one.detectable_relative_difference);
+  EXPECT_NEAR(r.channels[0].statistic, one.channels[0].statistic, 1e-3 * (1 + std::fabs(one.channels[0].statistic)));
+  EXPECT_NEAR(r.channels[0].variance_ratio, one.channels[0].variance_ratio, 1e-4 * one.channels[0].variance_ratio);
+}
+
+TEST_P(CompareAtScale, TheStatedDifferenceIsDifferent) {
+  const double scale = GetParam();
+  const CompareResult r = compare_renders(synthetic(Synthetic().set_gain(scale * (1 + kDefaultMaxDetectableDifference))),
+                                          synthetic(Synthetic().set_gain(scale).set_seed(kSeedB)), kAlpha,
+                                          kDefaultMaxDetectableDifference);
+  EXPECT_EQ(r.verdict, CompareVerdict::kDifferent) << format_compare(r);
+  EXPECT_TRUE(has(r.rejected, "mean")) << format_compare(r);
+  // A 1 % tile shift at the noise that gives a tile |t| of 12 is found there too.
+  constexpr int k = 8;
+  constexpr double kShift = 0.01, kTileT = 12;
+  const double sigma = kShift * 8 / (kTileT * std::sqrt(2.0 / k));
+  const CompareResult tile = compare_renders(
+      synthetic(Synthetic().set_k(k).set_sigma(sigma).set_gain(scale).set_tile_gain(1 + kShift)),
+      synthetic(Synthetic().set_k(k).set_sigma(sigma).set_gain(scale).set_seed(kSeedB)), kAlpha,
+      kDefaultMaxDetectableDifference);
+  EXPECT_TRUE(has(tile.rejected, "tiles")) << format_compare(tile);
+  EXPECT_EQ(tile.channels[0].worst_tile_x, 8);
+}
+
+std::string scale_name(const testing::TestParamInfo<double>& info) { return info.param < 1 ? "Dark" : "Bright"; }
+INSTANTIATE_TEST_SUITE_P(Scales, CompareAtScale, testing::Values(1e-3, 1e3), scale_name);
+
+// ---------------------------------------------------------------------------
 // Bad input, through the files and the command (`furnace compare`: bad input
 // is one line on stderr and exit 2).
 
@@ -422,9 +632,12 @@ TEST_F(CompareFiles, ChannelMismatchIsBadInput) {
   expect_bad_input(write_side(Synthetic(), "a"), b, {"luminance.exr", "Y", "R, G, B"});
 }
 
-TEST_F(CompareFiles, NanAndNegativeRadianceAreBadInput) {
-  const float bad[] = {std::numeric_limits<float>::quiet_NaN(), -2.0f};
-  const char* text[] = {"nan", "-2"};
+// NaN and infinite radiance stay bad input (exit 2, one sentence); a finite
+// negative value is data (next test). Until issue 41 a negative value was
+// refused here too.
+TEST_F(CompareFiles, NanAndInfiniteRadianceAreBadInput) {
+  const float bad[] = {std::numeric_limits<float>::quiet_NaN(), -std::numeric_limits<float>::infinity()};
+  const char* text[] = {"nan", "-inf"};
   for (int k = 0; k < 2; ++k) {
     exr::Image file;
     file.width = file.height = kSize;
@@ -434,6 +647,65 @@ TEST_F(CompareFiles, NanAndNegativeRadianceAreBadInput) {
     a[2] = write(file, "bad" + std::to_string(k) + ".exr");
     expect_bad_input(a, write_side(Synthetic().set_seed(kSeedB), "b"), {a[2], "(5, 3)", text[k], "'G'"});
   }
+}
+
+// pbrt-v4-like files: R, G, B as HALF or FLOAT, the spp as an int
+// samplesPerPixel attribute, some values small and negative.
+TEST_F(CompareFiles, NegativeValuesAreCountedAndSppAndHalfFloatsAreRead) {
+  const auto pbrt_like = [&](const Synthetic& s, const std::string& name, bool as_half, int spp) {
+    const CompareSide side = synthetic(s, name);
+    std::vector<std::string> paths;
+    for (const ForeignImage& img : side.images) {
+      const std::string path = (dir_ / img.path).string();
+      Imf::Header header(kSize, kSize);
+      header.insert("samplesPerPixel", Imf::IntAttribute(spp));
+      const Imf::PixelType type = as_half ? Imf::HALF : Imf::FLOAT;
+      std::vector<float> plane(img.value[0].begin(), img.value[0].end());
+      std::vector<half> halves(plane.begin(), plane.end());
+      Imf::FrameBuffer frame;
+      for (const char* c : {"R", "G", "B"}) {
+        header.channels().insert(c, Imf::Channel(type));
+        char* base = as_half ? reinterpret_cast<char*>(halves.data()) : reinterpret_cast<char*>(plane.data());
+        const size_t size = as_half ? sizeof(half) : sizeof(float);
+        frame.insert(c, Imf::Slice(type, base, size, size * kSize));
+      }
+      Imf::OutputFile file(path.c_str(), header);
+      file.setFrameBuffer(frame);
+      file.writePixels(kSize);
+      paths.push_back(path);
+    }
+    return paths;
+  };
+  const std::vector<std::string> a = pbrt_like(Synthetic().set_zero_row_noise(kZeroRowNoise), "a", false, 64);
+  const std::vector<std::string> b =
+      pbrt_like(Synthetic().set_zero_row_noise(kZeroRowNoise).set_seed(kSeedB), "b", false, 64);
+  const std::string json_path = (dir_ / "r.json").string();
+  const testing_support::CommandResult run =
+      testing_support::run_command(compare_command(a, b) + " --json " + json_path + " 2>&1");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json j = nlohmann::json::parse(exr_text(json_path));
+  const size_t negative = j["a"]["negative_values"]["values"];
+  EXPECT_GT(negative, 0u);
+  EXPECT_EQ(negative % 3, 0u);  // R, G and B of each negative pixel
+  EXPECT_GT(j["b"]["negative_values"]["values"], 0);
+  EXPECT_EQ(j["a"]["negative_values"]["images"], 8);
+  EXPECT_NE(run.output.find(fmt::format("negative values (side A): {} in", negative)), std::string::npos)
+      << run.output;
+  EXPECT_EQ(j["a"]["stated_spp"][0], 64);
+  EXPECT_EQ(j["a"]["half_float"], false);
+  EXPECT_TRUE(j["warnings"].empty()) << j["warnings"];
+  // Side B as half floats at 256 spp: warned of, and its halves recorded.
+  const std::vector<std::string> b_half =
+      pbrt_like(Synthetic().set_zero_row_noise(kZeroRowNoise).set_seed(kSeedB), "h", true, 256);
+  const testing_support::CommandResult warned =
+      testing_support::run_command(compare_command(a, b_half) + " --json " + json_path + " 2>&1");
+  EXPECT_NE(warned.output.find("furnace: warning: image '" + a[0] + "' states 64 spp (samplesPerPixel)"),
+            std::string::npos)
+      << warned.output;
+  const nlohmann::json h = nlohmann::json::parse(exr_text(json_path));
+  EXPECT_EQ(h["b"]["half_float"], true);
+  EXPECT_EQ(h["b"]["stated_spp"][0], 256);
+  EXPECT_EQ(h["warnings"].size(), 1u);
 }
 
 TEST_F(CompareFiles, OneImageWithoutVarianceIsBadInput) {
@@ -479,15 +751,18 @@ struct Calibration {
   double mean_detectable = 0;          // mean over trials of the reported detectable difference
 };
 
-// `trials` pairs of K renders each, pixel noise `sigma`; side A scaled by `gain`.
-Calibration calibrate(size_t trials, double gain, uint64_t first_seed, double sigma = kPixelNoise) {
+// `trials` pairs of K renders each, pixel noise `sigma`, both sides scaled by
+// `scale` (the image's brightness); side A also by `gain`.
+Calibration calibrate(size_t trials, double gain, uint64_t first_seed, double sigma = kPixelNoise,
+                      double scale = 1) {
   Calibration cal;
   const char* families[] = {"mean", "tiles", "pixels", "variance"};
   for (size_t t = 0; t < trials; ++t) {
     const uint64_t seed = first_seed + 2 * t;
     const CompareResult r = compare_renders(
-        synthetic(Synthetic().set_k(kCalibrationK).set_sigma(sigma).set_gain(gain).set_seed(seed)),
-        synthetic(Synthetic().set_k(kCalibrationK).set_sigma(sigma).set_seed(seed + 1)), kCalibrationAlpha, 1.0);
+        synthetic(Synthetic().set_k(kCalibrationK).set_sigma(sigma).set_gain(scale * gain).set_seed(seed)),
+        synthetic(Synthetic().set_k(kCalibrationK).set_sigma(sigma).set_gain(scale).set_seed(seed + 1)),
+        kCalibrationAlpha, 1.0);
     ++cal.trials;
     cal.rejections += r.rejected.empty() ? 0 : 1;
     for (int f = 0; f < 4; ++f) cal.by_family[f] += has(r.rejected, families[f]) ? 1 : 0;
@@ -503,12 +778,13 @@ double upper_tail(size_t k, size_t n, double p) {
       boost::math::complement(boost::math::binomial_distribution<double>(double(n), p), double(k - 1)));
 }
 
-void expect_false_alarms_at_most_alpha(size_t trials) {
-  const Calibration cal = calibrate(trials, 1.0, kCalibrationSeed);
+void expect_false_alarms_at_most_alpha(size_t trials, double scale = 1) {
+  const Calibration cal = calibrate(trials, 1.0, kCalibrationSeed, kPixelNoise, scale);
   const double p = upper_tail(cal.rejections, cal.trials, kCalibrationAlpha);
   testing::Test::RecordProperty("false_alarms", int(cal.rejections));
-  std::printf("false alarms: %zu of %zu (alpha %g; mean %zu, tiles %zu, pixels %zu, variance %zu), P(X >= k) = %.3g\n",
-              cal.rejections, cal.trials, kCalibrationAlpha, cal.by_family[0], cal.by_family[1], cal.by_family[2],
+  std::printf("scale %g: false alarms: %zu of %zu (alpha %g; mean %zu, tiles %zu, pixels %zu, variance %zu), P(X >= k) "
+              "= %.3g\n",
+              scale, cal.rejections, cal.trials, kCalibrationAlpha, cal.by_family[0], cal.by_family[1], cal.by_family[2],
               cal.by_family[3], p);
   EXPECT_GT(p, kCalibrationLevel) << cal.rejections << " of " << cal.trials;
 }
@@ -518,23 +794,23 @@ void expect_false_alarms_at_most_alpha(size_t trials) {
 // image-mean test must then reject with probability at least 0.9.
 constexpr double kKnownDifference = 0.005;
 
-void expect_power_at_the_detectable_difference(size_t trials) {
+void expect_power_at_the_detectable_difference(size_t trials, double scale = 1) {
   // The detectable difference scales with the noise: measure it at kPixelNoise.
-  const double detectable = calibrate(20, 1.0, kCalibrationSeed + 1000000).mean_detectable;
+  const double detectable = calibrate(20, 1.0, kCalibrationSeed + 1000000, kPixelNoise, scale).mean_detectable;
   const double sigma = kPixelNoise * kKnownDifference / detectable;
-  const double reported = calibrate(20, 1.0, kCalibrationSeed + 1500000, sigma).mean_detectable;
-  const Calibration cal = calibrate(trials, 1 + kKnownDifference, kCalibrationSeed + 2000000, sigma);
+  const double reported = calibrate(20, 1.0, kCalibrationSeed + 1500000, sigma, scale).mean_detectable;
+  const Calibration cal = calibrate(trials, 1 + kKnownDifference, kCalibrationSeed + 2000000, sigma, scale);
   const double rate = double(cal.by_family[0]) / double(cal.trials);
   // P(X ≤ k) under power 0.9: the observed count of image-mean rejections.
   const boost::math::binomial_distribution<double> at_power(double(cal.trials), stats::kReportedPower);
   const double p = boost::math::cdf(at_power, double(cal.by_family[0]));
   std::printf(
-      "a %.2g%% difference at pixel noise %.3g%% (reported detectable %.4g%%): the image-mean test rejected "
-      "%zu of %zu (%.3f), any test %zu; P(X <= k | 0.9) = %.3g\n",
-      100 * kKnownDifference, 100 * sigma, 100 * reported, cal.by_family[0], cal.trials, rate, cal.rejections, p);
+      "scale %g: a %.2g%% difference at pixel noise %.3g%% (reported detectable %.4g%%): the image-mean test "
+      "rejected %zu of %zu (%.3f), any test %zu; P(X <= k | 0.9) = %.3g\n",
+      scale, 100 * kKnownDifference, 100 * sigma, 100 * reported, cal.by_family[0], cal.trials, rate, cal.rejections, p);
   EXPECT_GT(p, kCalibrationLevel);
   // Negative control: the same design without the difference rejects at about α, far below 0.9.
-  EXPECT_LT(calibrate(trials, 1.0, kCalibrationSeed + 3000000, sigma).by_family[0], trials / 4);
+  EXPECT_LT(calibrate(trials, 1.0, kCalibrationSeed + 3000000, sigma, scale).by_family[0], trials / 4);
 }
 
 // Mixed sides: K renders against one furnace EXR of the same noise per render.
@@ -571,6 +847,16 @@ TEST(CompareCalibration, MixedSidesFalseAlarmRateIsAtMostAlpha) {
 TEST(CompareCalibration, FalseAlarmRateIsAtMostAlpha) { expect_false_alarms_at_most_alpha(kFastTrials); }
 TEST(CompareCalibration, PowerAtTheReportedDetectableDifference) {
   expect_power_at_the_detectable_difference(kFastTrials);
+}
+// Dark (mean ~1e-3) and bright (~1e3) renders: the same false-alarm and
+// power claims (issue 41: they were measured at a mean near 1 only).
+TEST(CompareCalibration, DarkAndBrightFalseAlarmRateIsAtMostAlpha) {
+  expect_false_alarms_at_most_alpha(kFastTrials, 1e-3);
+  expect_false_alarms_at_most_alpha(kFastTrials, 1e3);
+}
+TEST(CompareCalibration, DarkAndBrightPowerAtTheReportedDetectableDifference) {
+  expect_power_at_the_detectable_difference(kFastTrials, 1e-3);
+  expect_power_at_the_detectable_difference(kFastTrials, 1e3);
 }
 #else
 // The slow label (verify_compare_slow_tests, this file built with
