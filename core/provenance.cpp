@@ -33,6 +33,7 @@ constexpr Field kFields[] = {
     {"furnace.max_depth", &ImageProvenance::max_depth},
     {"furnace.light_selection", &ImageProvenance::light_selection},
     {"furnace.defect", &ImageProvenance::defect},
+    {"furnace.convention", &ImageProvenance::convention},
     {"furnace.version", &ImageProvenance::version},
 };
 

@@ -15,6 +15,8 @@
 //                            as 1), decimal, or "unlimited"
 //   furnace.light_selection  "uniform" or "power"
 //   furnace.defect           negative-control defect, "none" for the renderer
+//   furnace.convention       "radiance" or "none": how radiance crossing a
+//                            dielectric was transported (--convention)
 //   furnace.version          furnace's version (the CMake project VERSION)
 // An image from another renderer has none of these; every field is then empty.
 #pragma once
@@ -39,7 +41,7 @@ std::string file_content_hash(const std::filesystem::path& path);
 std::string furnace_version();
 
 struct ImageProvenance {
-  std::string scene, scene_hash, strategy, spp, seed, max_depth, light_selection, defect, version;
+  std::string scene, scene_hash, strategy, spp, seed, max_depth, light_selection, defect, convention, version;
 
   bool empty() const { return scene.empty() && scene_hash.empty(); }
   // The header attributes above (fields left empty are omitted).

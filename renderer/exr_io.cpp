@@ -51,6 +51,7 @@ ImageProvenance render_provenance(const std::filesystem::path& scene_path, const
   p.max_depth = depth_name(options.max_depth);
   p.light_selection = light_selection_name(options.light_selection);
   p.defect = defect_name(options.defect);
+  p.convention = transport_convention_name(options.convention);
   p.version = furnace_version();
   return p;
 }

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "analytic/glass.h"
 #include "analytic/global.h"
 #include "analytic/reference.h"
 #include "core/error.h"
@@ -264,6 +265,7 @@ std::vector<WorstPixel> worst_pixels(std::vector<Candidate> candidates, const st
 
 CheckReference check_reference(const Scene& scene, std::optional<int> max_depth, TransportConvention convention) {
   CheckReference r;
+  if (analytic::has_dielectric(scene)) r.convention = transport_convention_name(convention);
   const int depth = max_depth.value_or(kUnlimitedDepth);
   try {
     r.values = analytic::global_reference_image(scene, depth, convention);

@@ -68,6 +68,9 @@ struct CheckReference {
   int max_segments = 0;         // path length in segments (2 for direct lighting)
   std::string description;      // e.g. "global illumination, unlimited depth"
   std::string note;             // why direct lighting was chosen, when it was
+  // The transport convention the reference assumes, for a scene with a
+  // dielectric ("radiance" or "none"); empty where nothing depends on it.
+  std::string convention;
 };
 
 // The reference for `max_depth` segments (the CLI's --max-depth; empty: not

@@ -61,6 +61,10 @@ std::vector<std::string> provenance_warnings(const Scene& scene, const std::stri
     if (!p.defect.empty() && p.defect != "none")
       warnings.push_back(fmt::format("image '{}' says it was rendered with the negative-control defect '{}'.",
                                      img.path, p.defect));
+    if (!p.convention.empty() && !reference.convention.empty() && p.convention != reference.convention)
+      warnings.push_back(fmt::format("image '{}' was rendered in the '{}' transport convention, but the reference is "
+                                     "checked in '{}' (--convention).",
+                                     img.path, p.convention, reference.convention));
     if (is_path_tracer_name(p.strategy) && !p.max_depth.empty() && p.max_depth != depth_name(reference.max_segments))
       warnings.push_back(fmt::format("image '{}' was rendered by {} with max depth {}, but the reference is {}.",
                                      img.path, p.strategy, p.max_depth, reference.description));

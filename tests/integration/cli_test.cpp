@@ -307,8 +307,14 @@ TEST(Cli, ConventionOfRenderAndCheckMustAgree) {
   }
   const Result same = run_cli("check --scene " + scene + " --convention none --image" + images);
   EXPECT_EQ(same.exit_code, 0) << same.output;
+  EXPECT_EQ(same.output.find("transport convention"), std::string::npos) << same.output;
   const Result other = run_cli("check --scene " + scene + " --convention radiance --image" + images);
   EXPECT_EQ(other.exit_code, 1) << other.output;
+  // The images' provenance names their convention: check warns of the mismatch.
+  EXPECT_NE(other.output.find("rendered in the 'none' transport convention, but the reference is checked in "
+                              "'radiance'"),
+            std::string::npos)
+      << other.output;
   const Result bad = run_cli("check --scene " + scene + " --convention importance --image" + images);
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
   EXPECT_NE(bad.output.find("radiance"), std::string::npos) << bad.output;
