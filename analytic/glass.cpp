@@ -3,6 +3,7 @@
 #include "analytic/glass.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -11,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "analytic/fresnel.h"
+#include "analytic/glass_light.h"
 #include "analytic/reference.h"
 #include "core/adaptive_quadrature.h"
 #include "core/error.h"
@@ -69,6 +71,150 @@ Lobes lobes_at(const Vec3& wo, const Vec3& m, double eta, double alpha, Microfac
   return out;
 }
 
+// The values integrated together, at every node (one set of nodes serves
+// all, so the geometry of a normal is computed once): E_R, E_T, E[w²].
+using GlassValues = std::array<double, 3>;
+
+// Tolerances of the nested quadrature, relative to each component's whole
+// integral: the outer integral's error and the inner integrals' (each
+// within kGlassInnerTolerance of the whole, over v ∈ [0, 1]: so the whole's
+// too) add, and their sum is kGlassQuadratureTolerance. The inner share is
+// the smaller, so that its errors are no noise to the outer rule's estimate.
+constexpr double kGlassOuterTolerance = 0.9 * kGlassQuadratureTolerance;
+constexpr double kGlassInnerTolerance = 0.1 * kGlassQuadratureTolerance;
+// The first pass, which only estimates the whole that the inner integrals'
+// tolerance is relative to: loose, and few bisections.
+constexpr double kGlassEstimateTolerance = 1e-4;
+constexpr int kGlassEstimateDepth = 4;
+// A cap on the bisections of one integral (inner or outer): the cuts leave
+// nothing for them but round-off, which no bisection resolves; the cap
+// bounds the cost where round-off stands above the tolerance (measured:
+// a tolerance of 1e-13 took 178 s at the critical view with α = 0.3
+// without it). tests/analytic/glass_precision_test.cpp measures the
+// accuracy with the cap in place.
+constexpr size_t kGlassMaxBisections = 256;
+// Bisection levels: every feature is cut first, so these are rarely used.
+constexpr int kGlassOuterDepth = 20;
+constexpr int kGlassInnerDepth = 16;
+
+// The rule's value on [a, b] bisected until each component's error estimate
+// meets its share of the absolute tolerance, or `depth` levels are used up;
+// `value` and `error` (absolute) are the rule's on [a, b], already computed;
+// each bisection spends one of `bisections_left` (at 0 every remaining piece
+// keeps its one-rule value).
+template <class F>
+GlassValues adaptive_pieces(const F& f, double a, double b, const GlassValues& value, const GlassValues& error,
+                            const GlassValues& tolerance, int depth, size_t& bisections_left) {
+  bool met = true;
+  for (size_t c = 0; c < value.size(); ++c) met = met && error[c] <= tolerance[c];
+  if (met || depth == 0 || bisections_left == 0) return value;
+  --bisections_left;
+  const double mid = (a + b) / 2;
+  GlassValues half = tolerance;
+  for (double& t : half) t /= 2;
+  GlassValues left_error, right_error;
+  GlassValues left = gauss_kronrod_rule<kDefaultKronrodPoints>(f, a, mid, &left_error);
+  GlassValues right = gauss_kronrod_rule<kDefaultKronrodPoints>(f, mid, b, &right_error);
+  for (size_t c = 0; c < value.size(); ++c) left_error[c] *= (mid - a) / 2, right_error[c] *= (b - mid) / 2;
+  left = adaptive_pieces(f, a, mid, left, left_error, half, depth - 1, bisections_left);
+  right = adaptive_pieces(f, mid, b, right, right_error, half, depth - 1, bisections_left);
+  for (size_t c = 0; c < value.size(); ++c) left[c] += right[c];
+  return left;
+}
+
+// ∫ f over [cuts.front(), cuts.back()] split at the sorted cuts, each
+// component to `rel_tolerance` relative to a first estimate of its whole
+// integral (one rule per piece), shared equally by the pieces. Each piece
+// [a, b] is taken in t ∈ [0, 1] of x = a + (b − a)(3t² − 2t³), dx =
+// 6(b − a)t(1 − t) dt: a square-root end point (1 − F at total internal
+// reflection, the inner integral as a cut enters the range), where
+// Gauss–Kronrod converges only algebraically, becomes smooth.
+// `scale`, when given, replaces the first estimate as the magnitude the
+// tolerance is relative to (an inner integral's error is measured against
+// the outer integral: relative to itself, a nearly empty ring would ask for
+// digits its round-off does not hold, and bisect to full depth).
+template <class F>
+GlassValues integrate_pieces(const F& f, const std::vector<double>& cuts, double rel_tolerance, int depth,
+                             const GlassValues* scale = nullptr) {
+  struct Piece {
+    double a, w;
+    GlassValues value, error;
+  };
+  // f on the piece [a, a + w] in t.
+  const auto mapped = [&f](const Piece& p) {
+    return [&f, &p](double t) {
+      GlassValues v = f(p.a + p.w * t * t * (3 - 2 * t));
+      for (double& e : v) e *= 6 * p.w * t * (1 - t);
+      return v;
+    };
+  };
+  std::vector<Piece> pieces;
+  GlassValues first{};
+  for (size_t i = 0; i + 1 < cuts.size(); ++i) {
+    if (!(cuts[i + 1] > cuts[i])) continue;
+    Piece p{cuts[i], cuts[i + 1] - cuts[i], {}, {}};
+    p.value = gauss_kronrod_rule<kDefaultKronrodPoints>(mapped(p), 0.0, 1.0, &p.error);
+    for (size_t c = 0; c < first.size(); ++c) first[c] += p.value[c], p.error[c] /= 2;
+    pieces.push_back(p);
+  }
+  GlassValues tolerance, sum{};
+  size_t bisections_left = kGlassMaxBisections;
+  for (size_t c = 0; c < first.size(); ++c)
+    tolerance[c] = rel_tolerance * std::fabs(scale != nullptr ? (*scale)[c] : first[c]) / double(pieces.size());
+  for (const Piece& p : pieces) {
+    const GlassValues value =
+        adaptive_pieces(mapped(p), 0.0, 1.0, p.value, p.error, tolerance, depth, bisections_left);
+    for (size_t c = 0; c < sum.size(); ++c) sum[c] += value[c];
+  }
+  return sum;
+}
+
+// The v ∈ [0, 1] (tan²θm = α²(1 − v²)/v²) where dielectric_interface_albedo's
+// inner integral is not smooth, sorted, with 0 and 1: where a φ cut c*
+// reaches φ = 0 (c = cos(θm − θo)) or φ = π (c = cos(θm + θo)), and where
+// two cuts cross. For view θo and k = 1 − η² (0 for η > 1):
+//  - c* = 0 and √k: θm = θo ± acos c*, acos c* − θo;
+//  - the reflection's horizon c* = μ/(2 cos θm): cos θm cos(θm ∓ θo) = μ/2,
+//    i.e. cos(2θm ∓ θo) = 0: θm = (π/2 ± θo)/2;
+//  - the refraction's horizon c* = μ/(2 cos θm) + k cos θm/(2μ): with
+//    x = 2θm, (μ² − k/2) cos x ± μ sin θo sin x = k/2;
+//  - √k meets the reflection's horizon at cos θm = μ/(2√k) and the
+//    refraction's at cos θm = μ/√k (its minimum over q).
+std::vector<double> glass_v_cuts(double alpha, double mu, double theta_o, double k) {
+  std::vector<double> theta;
+  const double sin_o = std::sin(theta_o);
+  const auto constant_cut = [&](double c) {
+    const double a = std::acos(c);
+    for (double t : {theta_o + a, theta_o - a, a - theta_o}) theta.push_back(t);
+  };
+  constant_cut(0.0);
+  theta.push_back((kPi / 2 + theta_o) / 2);
+  theta.push_back((kPi / 2 - theta_o) / 2);
+  if (k > 0) {
+    const double sqrt_k = std::sqrt(k);
+    constant_cut(sqrt_k);
+    for (double sign : {-1.0, 1.0}) {
+      const double p = mu * mu - k / 2, q = sign * mu * sin_o, r = std::hypot(p, q);
+      if (k / 2 <= r)
+        for (double pm : {-1.0, 1.0}) {
+          const double x = std::atan2(q, p) + pm * std::acos(k / (2 * r));
+          for (double turn : {-2 * kPi, 0.0, 2 * kPi}) theta.push_back((x + turn) / 2);
+        }
+    }
+    if (mu / (2 * sqrt_k) < 1) theta.push_back(std::acos(mu / (2 * sqrt_k)));
+    if (mu / sqrt_k < 1) theta.push_back(std::acos(mu / sqrt_k));
+  }
+  std::vector<double> cuts{0.0, 1.0};
+  for (double t : theta)
+    if (t > 0 && t < kPi / 2) {
+      const double c = std::cos(t), s = std::sin(t);
+      cuts.push_back(alpha * c / std::sqrt(alpha * alpha * c * c + s * s));  // v = 1/√(1 + tan²θm/α²)
+    }
+  std::sort(cuts.begin(), cuts.end());
+  cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
+  return cuts;
+}
+
 }  // namespace
 
 double transmission_scale(double eta, TransportConvention convention) {
@@ -89,11 +235,13 @@ InterfaceAlbedo dielectric_interface_albedo(const Dielectric& d, double eta, dou
   }
   const double alpha = d.alpha;
   const double sin_o = std::sqrt((1 - mu) * (1 + mu));
+  const double theta_o = std::atan2(sin_o, mu);
   const Vec3 wo{sin_o, 0, mu};
   const double lambda_o = lambda_ggx(alpha, mu);
   const double g1o = 1 / (1 + lambda_o);
   // For η < 1, k = 1 − η²: total internal reflection at ωo·m = c below √k.
   const double k = eta < 1 ? (1 - eta) * (1 + eta) : 0.0;
+  const double sqrt_k = std::sqrt(k);
   // The integrand at (v, φ), w = 1 − v² (dw = 2v dv, which cancels the
   // 1/√(1 − w) of tan θm at the rim), over φ ∈ [0, π] (twice: even in φ):
   // G1(ωo)·max(0, ωo·m)/(μ cos θm) · lobe terms · 2v dv dφ/(2π).
@@ -105,15 +253,15 @@ InterfaceAlbedo dielectric_interface_albedo(const Dielectric& d, double eta, dou
     const double denom = std::sqrt(v * v + alpha * alpha * w);  // √(1 − w + α²w)
     return Normal{v / denom, alpha * std::sqrt(w) / denom};
   };
-  const auto at = [&](const Normal& n, double v, double phi, int which) {
+  const auto at = [&](const Normal& n, double v, double phi) {
     const Vec3 m{n.sin_m * std::cos(phi), n.sin_m * std::sin(phi), n.cos_m};
     const double c = dot(wo, m);
-    if (!(c > 0) || !(n.cos_m > 0)) return 0.0;
+    if (!(c > 0) || !(n.cos_m > 0)) return GlassValues{};
     const Lobes l = lobes_at(wo, m, eta, alpha, d.shadowing, lambda_o);
-    const double value =
-        which == 0 ? l.reflection : which == 1 ? l.transmission : l.reflection2 + l.transmission2 * s * s;
     // The 2v of dw over cos θm = v/√(1 − w + α²w): 2√(1 − w + α²w).
-    return g1o * c / mu * value * 2 * std::sqrt(v * v + alpha * alpha * (1 - v * v)) / kPi;
+    const double weight = g1o * c / mu * 2 * std::sqrt(v * v + alpha * alpha * (1 - v * v)) / kPi;
+    return GlassValues{weight * l.reflection, weight * l.transmission,
+                       weight * (l.reflection2 + l.transmission2 * s * s)};
   };
   // Along φ at fixed θm, c = ωo·m = A cos φ + B falls monotonically, and
   // every place where the integrand jumps or kinks is a value of c: c = 0
@@ -121,8 +269,11 @@ InterfaceAlbedo dielectric_interface_albedo(const Dielectric& d, double eta, dou
   // the horizon), and for η < 1 c = √k (total internal reflection; F has a
   // square-root kink there) and c = (q² + k)/(2q), q = μ/cos θm (the
   // refraction reaches the horizon: (c − √(c² − k))·cos θm = μ). The φ
-  // range is split at those, so each piece is smooth for the rule.
-  const auto inner = [&](double v, int which) {
+  // range is split at those, so each piece is smooth for the rule (the
+  // square root made smooth by integrate_pieces' end-point map).
+  // `scale`: the whole integral's estimate (nullptr: the first pass, each
+  // inner integral relative to itself).
+  const auto inner = [&](double v, const GlassValues* scale) {
     const Normal n = normal_at(v);
     const double a = sin_o * n.sin_m, b = mu * n.cos_m;
     std::vector<double> cuts{0.0, kPi};
@@ -134,24 +285,26 @@ InterfaceAlbedo dielectric_interface_albedo(const Dielectric& d, double eta, dou
     cut_at(0.0);
     cut_at(mu / (2 * n.cos_m));
     if (eta < 1) {
-      cut_at(std::sqrt(k));
+      cut_at(sqrt_k);
       const double q = mu / n.cos_m;
       cut_at((q * q + k) / (2 * q));
     }
     std::sort(cuts.begin(), cuts.end());
-    double sum = 0;
-    for (size_t i = 0; i + 1 < cuts.size(); ++i)
-      if (cuts[i + 1] > cuts[i])
-        sum += adaptive_gauss_kronrod([&](double phi) { return at(n, v, phi, which); }, cuts[i], cuts[i + 1],
-                                      kGlassQuadratureTolerance * 1e-3, 16);
-    return sum;
+    const auto f = [&](double phi) { return at(n, v, phi); };
+    if (scale == nullptr) return integrate_pieces(f, cuts, kGlassEstimateTolerance, kGlassEstimateDepth);
+    return integrate_pieces(f, cuts, kGlassInnerTolerance, kGlassInnerDepth, scale);
   };
-  const auto integral = [&](int which) {
-    return adaptive_gauss_kronrod([&](double v) { return inner(v, which); }, 0.0, 1.0, kGlassQuadratureTolerance, 20);
-  };
-  out.reflection = integral(0);
-  out.transmission = integral(1);
-  out.second_moment = integral(2);
+  // The inner integral is not smooth in v where a φ cut enters or leaves
+  // the range at φ = 0 (c = cos(θm − θo)) or φ = π (c = cos(θm + θo)), or
+  // two cuts cross; v is cut at each such θm (glass_v_cuts).
+  const std::vector<double> v_cuts = glass_v_cuts(alpha, mu, theta_o, k);
+  const GlassValues estimate = integrate_pieces([&](double v) { return inner(v, nullptr); }, v_cuts,
+                                                kGlassEstimateTolerance, kGlassEstimateDepth);
+  const GlassValues total =
+      integrate_pieces([&](double v) { return inner(v, &estimate); }, v_cuts, kGlassOuterTolerance, kGlassOuterDepth);
+  out.reflection = total[0];
+  out.transmission = total[1];
+  out.second_moment = total[2];
   return out;
 }
 
@@ -162,6 +315,7 @@ bool has_dielectric(const Scene& scene) {
 }
 
 std::optional<std::string> glass_scene_refusal(const Scene& scene) {
+  if (has_glass_light(scene)) return glass_light_scene_refusal(scene);  // kind 3 (glass_light.h)
   if (!scene.point_lights.empty()) return "it has point lights";
   if (scene.environment.map) return "its environment is a map, not constant";
   if (scene.closed) return "it is closed";
@@ -267,11 +421,14 @@ std::vector<double> glass_reference_image(const Scene& scene, int max_segments, 
                                           bool direct_only) {
   if (auto reason = glass_scene_refusal(scene)) refuse(scene, *reason);
   if (max_segments < 1) throw Error(fmt::format("max_segments must be at least 1, got {}.", max_segments));
+  if (has_glass_light(scene)) return glass_light_reference_image(scene, direct_only ? 2 : max_segments, convention);
   return glass_image(scene, direct_only ? 2 : max_segments, convention, direct_only, false);
 }
 
-std::vector<double> glass_second_moment_image(const Scene& scene, Strategy strategy, TransportConvention convention) {
+std::vector<double> glass_second_moment_image(const Scene& scene, Strategy strategy, TransportConvention convention,
+                                              LightSelection selection) {
   if (auto reason = glass_scene_refusal(scene)) refuse(scene, *reason);
+  if (has_glass_light(scene)) return glass_light_second_moment_image(scene, strategy, convention, selection);
   if (strategy != Strategy::kBsdf)
     refuse(scene, fmt::format("the second moment of strategy '{}' at a dielectric is not modelled",
                               strategy_name(strategy)));

@@ -161,6 +161,11 @@ class ReceiverModel : public Receiver {
   // The angular width (rad) of a lobe about r that the cap quadrature should
   // resolve by graded cuts; 0 (the default) for none.
   double lobe_width() const { return 0; }
+  // The unit direction where the lobe peaks, about whose hit point a planar
+  // light's polar coordinates are centred (plane_integral): r by default; R
+  // hides this when its peak is elsewhere (a refraction lobe seen through
+  // the mirror map, glass_light.h).
+  Vec3 lobe_centre() const { return this->mirror(); }
   double light_reflectance(const ReceiverLight& light) const final;
   double second_moment(Strategy strategy, const std::vector<ReceiverLight>& lights) const final;
 };

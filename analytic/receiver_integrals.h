@@ -196,8 +196,9 @@ double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
 }
 
 // ∫ g(Direction) dω over a planar light's visible region (receiver_planar.h),
-// in polar coordinates (ρ, φ) about the mirror direction's hit point C on the
-// light's plane: dω = (h/d³)·ρ dρ dφ. The inner ρ runs over the exact
+// in polar coordinates (ρ, φ) about the lobe's peak direction's hit point C
+// on the light's plane (R::lobe_centre(), the mirror direction unless R says
+// otherwise): dω = (h/d³)·ρ dρ dφ. The inner ρ runs over the exact
 // intervals of each ray inside the region, starting at the lobe's peak when
 // C is inside it; the outer φ is cut at every critical angle (the boundary's
 // vertices and tangents, PolarRegion), and each piece [a, b] is integrated
@@ -212,7 +213,7 @@ double plane_integral(const PlanarEmitter& light, const R& receiver, G g) {
   NestedError reached;
   const Vec3& n = receiver.n;
   const Vec3 r = receiver.mirror();
-  const PolarRegion region(light.boundary, polar_centre(light, r));
+  const PolarRegion region(light.boundary, polar_centre(light, receiver.R::lobe_centre()));
   const double h = light.height;
   // n·v and r·v for v = x·s + y·t − h·toward_receiver (receiver_planar.h).
   const double ns = dot(n, light.s), nt = dot(n, light.t), nh = -h * dot(n, light.toward_receiver);

@@ -116,7 +116,8 @@ std::vector<double> compute_predicted_variance(const Case& c, const Scene& scene
   if (analytic::has_dielectric(scene)) {
     // Glass (glass.h): the whole image at once, or mean tests only where it is not modelled.
     try {
-      std::vector<double> v = analytic::glass_second_moment_image(scene, c.options.strategy, c.options.convention);
+      std::vector<double> v = analytic::glass_second_moment_image(scene, c.options.strategy, c.options.convention,
+                                                                  c.options.light_selection);
       for (size_t i = 0; i < v.size(); ++i) {
         const double e2 = reference[i] * reference[i];
         v[i] = v[i] - e2 <= kPredictedVarianceRoundOff * e2 ? 0.0 : v[i] - e2;
@@ -144,6 +145,17 @@ static_assert(kMultiSampleMis == 2,
 // equal to the bit to compute_predicted_variance of that strategy.
 std::array<std::vector<double>, kMultiSampleMis> compute_multi_sample_mis_variances(
     const Case& c, const Scene& scene, const std::vector<double>& reference) {
+  if (analytic::has_dielectric(scene)) {
+    // Glass: each strategy's whole image (glass.h), the same values compute_predicted_variance gives.
+    std::array<std::vector<double>, kMultiSampleMis> all;
+    const std::vector<Strategy> strategies = multi_sample_mis_strategies();
+    for (size_t k = 0; k < kMultiSampleMis; ++k) {
+      Case one = c;
+      one.options.strategy = strategies[k];
+      all[k] = compute_predicted_variance(one, scene, reference);
+    }
+    return all;
+  }
   return compute_variances<kMultiSampleMis>(c, scene, reference, [&](int px, int py) {
     return analytic::pixel_center_multi_sample_mis_second_moments(scene, px, py, c.options.light_selection);
   });

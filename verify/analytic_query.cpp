@@ -10,6 +10,7 @@
 
 #include "analytic/error_ledger.h"
 #include "analytic/glass.h"
+#include "analytic/glass_light.h"
 #include "analytic/glossy.h"
 #include "analytic/moments.h"
 #include "analytic/receiver.h"
@@ -158,6 +159,67 @@ std::string answer_glossy_query(const Scene& original, const AnalyticQuery& q, s
   return json ? j.dump(2) + "\n" : text;
 }
 
+// A dielectric receiver with planar lights behind it (analytic/glass_light.h):
+// the radiance transmitted toward the view in the query's convention and
+// each direct strategy's E[Y²], bounds from the receiver model's ErrorLedger.
+std::string answer_glass_light_query(const Scene& original, const AnalyticQuery& q, size_t receiver, bool json) {
+  Scene scene = original;
+  Object& object = scene.objects[receiver];
+  if (q.albedo) object.material.albedo = *q.albedo;
+  View view = q.view ? View{normalize(*q.view), "--view"} : View{-scene.camera.forward, "the camera"};
+  view.direction = view.direction + Vec3(0, 0, 0);  // −0 components to +0, for the printed direction
+  const bool inside = dot(view.direction, shape_normal(object.shape, q.point)) < 0;
+  double radiance = 0, radiance_bound = 0;
+  {
+    analytic::ErrorLedger ledger;
+    radiance = analytic::glass_light_radiance(scene, q.point, view.direction, receiver, q.convention);
+    radiance_bound = ledger.bound(radiance);
+  }
+  nlohmann::ordered_json j = view_query_json(scene, q, object.name, bsdf_json(object.material), view);
+  j["view_side"] = inside ? "inside" : "outside";
+  j["convention"] = transport_convention_name(q.convention);
+  j["radiance"] = radiance;
+  j["radiance_error_bound"] = radiance_bound;
+  std::string text = fmt::format(
+      "scene {}, point ({:.17g}, {:.17g}, {:.17g}), normal ({:.17g}, {:.17g}, {:.17g}), receiver {}\n"
+      "BSDF {}, view ({:.17g}, {:.17g}, {:.17g}) from {}, {} the glass, lights behind it, convention {}\n"
+      "radiance L toward the view  {:.17g} ± {:.2g}\n"
+      "single-sample estimators of L: second moment E[Y^2] and variance Var Y = E[Y^2] - L^2 (± error bounds)\n",
+      scene.name, q.point.x, q.point.y, q.point.z, q.normal.x, q.normal.y, q.normal.z, object.name,
+      bsdf_text(bsdf_json(object.material)), view.direction.x, view.direction.y, view.direction.z, view.source,
+      inside ? "inside" : "outside", transport_convention_name(q.convention), radiance, radiance_bound);
+  std::vector<Strategy> estimators = q.estimators;
+  if (estimators.empty())
+    for (const StrategyInfo& info : kStrategyTable)
+      if (!is_path_tracer(info.strategy)) estimators.push_back(info.strategy);
+  for (const Strategy strategy : estimators) {
+    const std::string& est = strategy_name(strategy);
+    try {
+      double m2 = 0, m2_bound = 0;
+      {
+        analytic::ErrorLedger ledger;
+        m2 = analytic::glass_light_second_moment(strategy, scene, q.point, view.direction, receiver, q.convention,
+                                                 LightSelection::kUniform);
+        m2_bound = ledger.bound(m2);
+      }
+      const double variance = m2 - radiance * radiance;
+      const double variance_bound = m2_bound + 2 * std::fabs(radiance) * radiance_bound +
+                                    radiance_bound * radiance_bound +
+                                    std::numeric_limits<double>::epsilon() * std::fabs(m2);
+      j["estimators"][est] = {{"second_moment", m2},
+                              {"second_moment_error_bound", m2_bound},
+                              {"variance", variance},
+                              {"variance_error_bound", variance_bound}};
+      text += fmt::format("  {:<20} E[Y^2] {:<34} Var {}\n", est, fmt::format("{:.17g} ± {:.2g}", m2, m2_bound),
+                          fmt::format("{:.17g} ± {:.2g}", variance, variance_bound));
+    } catch (const Error& err) {
+      j["estimators"][est] = {{"unsupported", err.what()}};
+      text += fmt::format("  {:<20} E[Y^2] {:<34} Var {}\n", est, "unsupported", err.what());
+    }
+  }
+  return json ? j.dump(2) + "\n" : text;
+}
+
 // A dielectric receiver (analytic/glass.h): in a glass scene of planar
 // interfaces under a constant environment, the radiance toward the view
 // (from either side: a view behind the object's front normal looks from
@@ -248,7 +310,9 @@ std::string answer_analytic_query(const Scene& scene, const AnalyticQuery& q, bo
   if (receiver) {
     const Object& object = scene.objects[*receiver];
     if (object.material.info().glossy) return answer_glossy_query(scene, q, *receiver, json);
-    if (object.material.as<Dielectric>()) return answer_dielectric_query(scene, q, *receiver, json);
+    if (object.material.as<Dielectric>())
+      return analytic::has_glass_light(scene) ? answer_glass_light_query(scene, q, *receiver, json)
+                                              : answer_dielectric_query(scene, q, *receiver, json);
     if (object.material.as<Mirror>() && (q.albedo ? *q.albedo : object.material.albedo) > 0)
       throw Error(fmt::format("scene file '{}': the receiver '{}' at the point is a mirror, a delta lobe with no "
                               "reference at a point (its radiance is the radiance along the mirrored ray).",
