@@ -92,6 +92,48 @@ nlohmann::ordered_json view_query_json(const Scene& scene, const AnalyticQuery& 
   return j;
 }
 
+// Each requested direct estimator's row (every direct strategy when none is
+// requested) in the text and the JSON: E[Y²] = second_moment(strategy), its
+// bound what the quadratures report to an ErrorLedger, and the variance
+// E[Y²] − L² with its bound (L's bound propagated, plus round-off). An
+// estimator second_moment refuses (furnace::Error) is named unsupported,
+// with the reason.
+template <class SecondMoment>
+void estimator_rows(const std::vector<Strategy>& requested, double radiance, double radiance_bound,
+                    nlohmann::ordered_json& j, std::string& text, const SecondMoment& second_moment) {
+  std::vector<Strategy> estimators = requested;
+  if (estimators.empty())
+    for (const StrategyInfo& info : kStrategyTable)
+      if (!is_path_tracer(info.strategy)) estimators.push_back(info.strategy);
+  for (const Strategy strategy : estimators) {
+    const std::string& est = strategy_name(strategy);
+    std::string moment_text, variance_text;
+    try {
+      double m2 = 0, m2_bound = 0;
+      {
+        analytic::ErrorLedger ledger;
+        m2 = second_moment(strategy);
+        m2_bound = ledger.bound(m2);
+      }
+      const double variance = m2 - radiance * radiance;
+      const double variance_bound = m2_bound + 2 * std::fabs(radiance) * radiance_bound +
+                                    radiance_bound * radiance_bound +
+                                    std::numeric_limits<double>::epsilon() * std::fabs(m2);
+      j["estimators"][est] = {{"second_moment", m2},
+                              {"second_moment_error_bound", m2_bound},
+                              {"variance", variance},
+                              {"variance_error_bound", variance_bound}};
+      moment_text = fmt::format("{:.17g} ± {:.2g}", m2, m2_bound);
+      variance_text = fmt::format("{:.17g} ± {:.2g}", variance, variance_bound);
+    } catch (const Error& err) {
+      j["estimators"][est] = {{"unsupported", err.what()}};
+      moment_text = "unsupported";
+      variance_text = err.what();
+    }
+    text += fmt::format("  {:<20} E[Y^2] {:<34} Var {}\n", est, moment_text, variance_text);
+  }
+}
+
 // The glossy receiver's answer: its radiance toward the view and each direct
 // strategy's single-sample estimator of it. Each value's bound is what the
 // receiver model's nested quadratures report to an ErrorLedger (their own
@@ -125,37 +167,9 @@ std::string answer_glossy_query(const Scene& original, const AnalyticQuery& q, s
       "single-sample estimators of L: second moment E[Y^2] and variance Var Y = E[Y^2] - L^2 (± error bounds)\n",
       scene.name, q.point.x, q.point.y, q.point.z, q.normal.x, q.normal.y, q.normal.z, name, bsdf_text(bsdf),
       view.direction.x, view.direction.y, view.direction.z, view.source, radiance, radiance_bound);
-  std::vector<Strategy> estimators = q.estimators;
-  if (estimators.empty())
-    for (const StrategyInfo& info : kStrategyTable)
-      if (!is_path_tracer(info.strategy)) estimators.push_back(info.strategy);
-  for (const Strategy strategy : estimators) {
-    const std::string& est = strategy_name(strategy);
-    std::string moment_text, variance_text;
-    try {
-      double m2 = 0, m2_bound = 0;
-      {
-        analytic::ErrorLedger ledger;
-        m2 = analytic::glossy_second_moment(strategy, scene, q.point, q.normal, view.direction, receiver);
-        m2_bound = ledger.bound(m2);
-      }
-      const double variance = m2 - radiance * radiance;
-      const double variance_bound = m2_bound + 2 * std::fabs(radiance) * radiance_bound +
-                                    radiance_bound * radiance_bound +
-                                    std::numeric_limits<double>::epsilon() * std::fabs(m2);
-      j["estimators"][est] = {{"second_moment", m2},
-                              {"second_moment_error_bound", m2_bound},
-                              {"variance", variance},
-                              {"variance_error_bound", variance_bound}};
-      moment_text = fmt::format("{:.17g} ± {:.2g}", m2, m2_bound);
-      variance_text = fmt::format("{:.17g} ± {:.2g}", variance, variance_bound);
-    } catch (const Error& err) {
-      j["estimators"][est] = {{"unsupported", err.what()}};
-      moment_text = "unsupported";
-      variance_text = err.what();
-    }
-    text += fmt::format("  {:<20} E[Y^2] {:<34} Var {}\n", est, moment_text, variance_text);
-  }
+  estimator_rows(q.estimators, radiance, radiance_bound, j, text, [&](Strategy strategy) {
+    return analytic::glossy_second_moment(strategy, scene, q.point, q.normal, view.direction, receiver);
+  });
   return json ? j.dump(2) + "\n" : text;
 }
 
@@ -188,35 +202,10 @@ std::string answer_glass_light_query(const Scene& original, const AnalyticQuery&
       scene.name, q.point.x, q.point.y, q.point.z, q.normal.x, q.normal.y, q.normal.z, object.name,
       bsdf_text(bsdf_json(object.material)), view.direction.x, view.direction.y, view.direction.z, view.source,
       inside ? "inside" : "outside", transport_convention_name(q.convention), radiance, radiance_bound);
-  std::vector<Strategy> estimators = q.estimators;
-  if (estimators.empty())
-    for (const StrategyInfo& info : kStrategyTable)
-      if (!is_path_tracer(info.strategy)) estimators.push_back(info.strategy);
-  for (const Strategy strategy : estimators) {
-    const std::string& est = strategy_name(strategy);
-    try {
-      double m2 = 0, m2_bound = 0;
-      {
-        analytic::ErrorLedger ledger;
-        m2 = analytic::glass_light_second_moment(strategy, scene, q.point, view.direction, receiver, q.convention,
-                                                 LightSelection::kUniform);
-        m2_bound = ledger.bound(m2);
-      }
-      const double variance = m2 - radiance * radiance;
-      const double variance_bound = m2_bound + 2 * std::fabs(radiance) * radiance_bound +
-                                    radiance_bound * radiance_bound +
-                                    std::numeric_limits<double>::epsilon() * std::fabs(m2);
-      j["estimators"][est] = {{"second_moment", m2},
-                              {"second_moment_error_bound", m2_bound},
-                              {"variance", variance},
-                              {"variance_error_bound", variance_bound}};
-      text += fmt::format("  {:<20} E[Y^2] {:<34} Var {}\n", est, fmt::format("{:.17g} ± {:.2g}", m2, m2_bound),
-                          fmt::format("{:.17g} ± {:.2g}", variance, variance_bound));
-    } catch (const Error& err) {
-      j["estimators"][est] = {{"unsupported", err.what()}};
-      text += fmt::format("  {:<20} E[Y^2] {:<34} Var {}\n", est, "unsupported", err.what());
-    }
-  }
+  estimator_rows(q.estimators, radiance, radiance_bound, j, text, [&](Strategy strategy) {
+    return analytic::glass_light_second_moment(strategy, scene, q.point, view.direction, receiver, q.convention,
+                                               LightSelection::kUniform);
+  });
   return json ? j.dump(2) + "\n" : text;
 }
 
