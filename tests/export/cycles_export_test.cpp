@@ -65,8 +65,8 @@ TEST(CyclesExport, RefusesExactlyImageEnvironmentsPointLightsAndGlossyScenesAmon
                                             "point_and_area", "ggx_oblique_sky_60", "ggx_oblique_sky_78",
                                             "ggx_oblique_sphere_60", "ggx_oblique_sphere_78",
                                             // not written yet: dielectrics, conductor Fresnel
-                                            "glass_rough_inside_45", "glass_rough_normal", "glass_rough_outside_60",
-                                            "glass_smooth_inside_30", "glass_smooth_inside_60",
+                                            "glass_rough_disk_inside", "glass_rough_inside_45", "glass_rough_normal",
+                                            "glass_rough_outside_60", "glass_smooth_inside_30", "glass_smooth_inside_60",
                                             "glass_smooth_outside_60", "glass_sphere", "conductor_fresnel_sky_60",
                                             "conductor_fresnel_sphere_60"}));
 }
