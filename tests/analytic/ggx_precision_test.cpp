@@ -76,12 +76,12 @@
 #include <variant>
 #include <vector>
 
-#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <boost/multiprecision/cpp_bin_float.hpp>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "analytic/error_ledger.h"
+#include "tests/analytic/big_quadrature.h"
 #include "analytic/ggx.h"
 #include "analytic/glossy.h"
 #include "analytic/moments.h"
@@ -324,83 +324,13 @@ Big expected(const Values& v, const Strategy* strategy) {
 // Adaptive Gauss–Kronrod (61 points) in 50 digits for Values: one rule per
 // piece, bisected until every component's error estimate meets its share of
 // its absolute tolerance.
-using Rule = boost::math::quadrature::gauss_kronrod<Big, 61>;
-using Gauss = boost::math::quadrature::gauss<Big, 30>;
 constexpr int kReferenceDepth = 30;  // bisection levels: the cuts and the end-point map resolve every feature first
 
-Values rule(const std::function<Values(const Big&)>& f, const Big& a, const Big& b, Values* error) {
-  static const auto& x = Rule::abscissa();
-  static const auto& wk = Rule::weights();
-  static const auto& wg = Gauss::weights();
-  const Big mean = (a + b) / 2, scale = (b - a) / 2;
-  Values kronrod{}, gauss{};
-  const Values f0 = f(mean);
-  for (int c = 0; c < kComponentCount; ++c) kronrod[c] = f0[c] * wk[0];  // 0 is no Gauss node (30 points)
-  for (size_t i = 1; i < x.size(); ++i) {
-    const Values fp = f(mean + scale * x[i]), fm = f(mean - scale * x[i]);
-    for (int c = 0; c < kComponentCount; ++c) {
-      kronrod[c] += (fp[c] + fm[c]) * wk[i];
-      if (i % 2 == 1) gauss[c] += (fp[c] + fm[c]) * wg[i / 2];
-    }
-  }
-  Values value;
-  for (int c = 0; c < kComponentCount; ++c) {
-    (*error)[c] = abs(kronrod[c] - gauss[c]) * scale;
-    value[c] = kronrod[c] * scale;
-  }
-  return value;
-}
-
-// `value` and `error`: the rule's on [a, b], already computed.
-Values adaptive(const std::function<Values(const Big&)>& f, const Big& a, const Big& b, const Values& tolerance,
-                int depth, const Values& value, const Values& error) {
-  bool met = true;
-  for (int c = 0; c < kComponentCount; ++c) met = met && error[c] <= tolerance[c];
-  if (met || depth == 0) return value;
-  Values half = tolerance;
-  for (Big& t : half) t /= 2;
-  const Big mid = (a + b) / 2;
-  Values left_error, right_error;
-  const Values left_value = rule(f, a, mid, &left_error), right_value = rule(f, mid, b, &right_error);
-  Values sum = adaptive(f, a, mid, half, depth - 1, left_value, left_error);
-  const Values right = adaptive(f, mid, b, half, depth - 1, right_value, right_error);
-  for (int c = 0; c < kComponentCount; ++c) sum[c] += right[c];
-  return sum;
-}
-
-// ∫ f over [cuts[0], cuts.back()] split at the cuts, each component to
-// kReferenceTolerance relative to a first estimate (one rule per piece).
-// Each piece [a, b] in the variable t ∈ [0, 1] of x = a + (b − a)(3t² − 2t³),
-// dx = 6(b − a)t(1 − t) dt: a square-root end point (an arc's end as the
-// ring passes a kink, a sphere's rim in the area density) becomes smooth.
-Values integrate(const std::function<Values(const Big&)>& f, std::vector<Big> cuts) {
-  std::sort(cuts.begin(), cuts.end());
-  cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
-  std::vector<std::function<Values(const Big&)>> pieces;
-  for (size_t i = 0; i + 1 < cuts.size(); ++i) {
-    const Big a = cuts[i], w = cuts[i + 1] - cuts[i];
-    pieces.push_back([&f, a, w](const Big& t) {
-      Values v = f(a + w * t * t * (3 - 2 * t));
-      const Big jacobian = 6 * w * t * (1 - t);
-      for (Big& e : v) e *= jacobian;
-      return v;
-    });
-  }
-  Values first{};
-  std::vector<Values> values(pieces.size()), errors(pieces.size());
-  for (size_t i = 0; i < pieces.size(); ++i) {
-    values[i] = rule(pieces[i], Big(0), Big(1), &errors[i]);
-    for (int c = 0; c < kComponentCount; ++c) first[c] += values[i][c];
-  }
-  Values tolerance;
-  const double count = double(std::max<size_t>(pieces.size(), 1));
-  for (int c = 0; c < kComponentCount; ++c) tolerance[c] = Big(kReferenceTolerance) * abs(first[c]) / count;
-  Values sum{};
-  for (size_t i = 0; i < pieces.size(); ++i) {
-    const Values piece = adaptive(pieces[i], Big(0), Big(1), tolerance, kReferenceDepth, values[i], errors[i]);
-    for (int c = 0; c < kComponentCount; ++c) sum[c] += piece[c];
-  }
-  return sum;
+// ∫ f over the cuts' span, each component to kReferenceTolerance of itself
+// (big_quadrature.h: the pieces' end points smoothed, square-root ends
+// included).
+Values integrate(const big_quadrature::Integrand<Values>& f, std::vector<Big> cuts) {
+  return big_quadrature::integrate(f, std::move(cuts), kReferenceTolerance, kReferenceDepth);
 }
 
 // Cuts at `first`·ratio^k below `end`, and 0 and `end`: pieces that resolve a

@@ -65,12 +65,12 @@
 #include <utility>
 #include <vector>
 
-#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <boost/multiprecision/cpp_bin_float.hpp>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "analytic/error_ledger.h"
+#include "tests/analytic/big_quadrature.h"
 #include "analytic/glass.h"
 #include "core/material.h"
 #include "core/strategy.h"
@@ -180,82 +180,13 @@ Values transmission_at(const Geometry& g, const Big* w) {
 
 // ---------------------------------------------------------------------------
 // Adaptive Gauss–Kronrod (61 points) in 50 digits for Values.
-using Rule = boost::math::quadrature::gauss_kronrod<Big, 61>;
-using Gauss = boost::math::quadrature::gauss<Big, 30>;
-using Integrand = std::function<Values(const Big&)>;
+using Integrand = big_quadrature::Integrand<Values>;
 
-Values rule(const Integrand& f, const Big& a, const Big& b, Values* error) {
-  static const auto& x = Rule::abscissa();
-  static const auto& wk = Rule::weights();
-  static const auto& wg = Gauss::weights();
-  const Big mean = (a + b) / 2, scale = (b - a) / 2;
-  Values kronrod{}, gauss{};
-  const Values f0 = f(mean);
-  for (size_t c = 0; c < f0.size(); ++c) kronrod[c] = f0[c] * wk[0];  // 0 is no Gauss node (30 points)
-  for (size_t i = 1; i < x.size(); ++i) {
-    const Values fp = f(mean + scale * x[i]), fm = f(mean - scale * x[i]);
-    for (size_t c = 0; c < f0.size(); ++c) {
-      kronrod[c] += (fp[c] + fm[c]) * wk[i];
-      if (i % 2 == 1) gauss[c] += (fp[c] + fm[c]) * wg[i / 2];
-    }
-  }
-  Values value;
-  for (size_t c = 0; c < value.size(); ++c) {
-    (*error)[c] = abs(kronrod[c] - gauss[c]) * scale;
-    value[c] = kronrod[c] * scale;
-  }
-  return value;
-}
-
-Values adaptive(const Integrand& f, const Big& a, const Big& b, const Values& tolerance, int depth,
-                const Values& value, const Values& error) {
-  bool met = true;
-  for (size_t c = 0; c < value.size(); ++c) met = met && error[c] <= tolerance[c];
-  if (met || depth == 0) return value;
-  Values half = tolerance;
-  for (Big& t : half) t /= 2;
-  const Big mid = (a + b) / 2;
-  Values left_error, right_error;
-  const Values left_value = rule(f, a, mid, &left_error), right_value = rule(f, mid, b, &right_error);
-  Values sum = adaptive(f, a, mid, half, depth - 1, left_value, left_error);
-  const Values right = adaptive(f, mid, b, half, depth - 1, right_value, right_error);
-  for (size_t c = 0; c < sum.size(); ++c) sum[c] += right[c];
-  return sum;
-}
-
-// ∫ f over [cuts.front(), cuts.back()] split at the cuts, each component to
-// kReferenceTolerance relative to a first estimate. Each piece [a, b] in
-// t ∈ [0, 1], x = a + (b − a)(3t² − 2t³), dx = 6(b − a)t(1 − t) dt: a
-// square-root end (an arc's end as the ring passes a kink; 1 − F at total
-// internal reflection) becomes smooth.
+// ∫ f over the cuts' span, each component to kReferenceTolerance of itself
+// (big_quadrature.h: the pieces' end points smoothed, square-root ends
+// included, such as 1 − F at total internal reflection).
 Values integrate(const Integrand& f, std::vector<Big> cuts) {
-  std::sort(cuts.begin(), cuts.end());
-  cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
-  std::vector<Integrand> pieces;
-  for (size_t i = 0; i + 1 < cuts.size(); ++i) {
-    const Big a = cuts[i], w = cuts[i + 1] - cuts[i];
-    pieces.push_back([&f, a, w](const Big& t) {
-      Values v = f(a + w * t * t * (3 - 2 * t));
-      const Big jacobian = 6 * w * t * (1 - t);
-      for (Big& e : v) e *= jacobian;
-      return v;
-    });
-  }
-  Values first{};
-  std::vector<Values> values(pieces.size()), errors(pieces.size());
-  for (size_t i = 0; i < pieces.size(); ++i) {
-    values[i] = rule(pieces[i], Big(0), Big(1), &errors[i]);
-    for (size_t c = 0; c < first.size(); ++c) first[c] += values[i][c];
-  }
-  Values tolerance;
-  const double count = double(std::max<size_t>(pieces.size(), 1));
-  for (size_t c = 0; c < first.size(); ++c) tolerance[c] = Big(kReferenceTolerance) * abs(first[c]) / count;
-  Values sum{};
-  for (size_t i = 0; i < pieces.size(); ++i) {
-    const Values piece = adaptive(pieces[i], Big(0), Big(1), tolerance, kReferenceDepth, values[i], errors[i]);
-    for (size_t c = 0; c < sum.size(); ++c) sum[c] += piece[c];
-  }
-  return sum;
+  return big_quadrature::integrate(f, std::move(cuts), kReferenceTolerance, kReferenceDepth);
 }
 
 // ---------------------------------------------------------------------------
