@@ -92,15 +92,19 @@ struct CheckRun {
   Diagnostics numbers;
 };
 
-// Runs `furnace check --scene scene_file --max-depth check_depth` on
-// `images`, its JSON report written to `json_file`.
+// Runs `furnace check --scene scene_file --max-depth check_depth
+// --convention convention` on `images`, its JSON report written to
+// `json_file`. The convention matters only for scenes with dielectrics:
+// pbrt-v4 renders the radiance convention, Cycles none.
 inline CheckRun check_renders(const fs::path& scene_file, int check_depth, const std::vector<fs::path>& images,
-                              const fs::path& json_file) {
+                              const fs::path& json_file,
+                              TransportConvention convention = TransportConvention::kRadiance) {
   std::string image_args;
   for (const fs::path& image : images) image_args += " --image " + quoted(image);
   const testing_support::CommandResult check =
-      run(fmt::format("{} check --scene {} --max-depth {} --json {}{}", FURNACE_CLI, quoted(scene_file),
-                      depth_name(check_depth), quoted(json_file), image_args));
+      run(fmt::format("{} check --scene {} --max-depth {} --convention {} --json {}{}", FURNACE_CLI,
+                      quoted(scene_file), depth_name(check_depth), transport_convention_name(convention),
+                      quoted(json_file), image_args));
   return {check.exit_code, check.output, diagnostics(read_text(json_file))};
 }
 
@@ -174,6 +178,27 @@ inline fs::path derived_strips_with_alphas(const std::vector<double>& alphas, co
     j["objects"][i]["material"]["albedo"] = 1.0;
     j["objects"][i]["name"] = fmt::format("ggx_a{}", alphas[i]);
   }
+  const fs::path out = dir / (name + ".json");
+  std::ofstream(out) << j.dump(2) << "\n";
+  return out;
+}
+
+// A built-in scene with `edit` applied to the material of every object whose
+// material type is `type`, written as `dir`/<name>.json with "name" set to
+// `name` (nothing else differs, so the derived scene stays out of every
+// built-in suite); throws when no object has that type.
+inline fs::path derived_scene(const std::string& builtin, const std::string& name, const fs::path& dir,
+                              const std::string& type, const std::function<void(nlohmann::json&)>& edit) {
+  std::ifstream in(scene_file(builtin));
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["name"] = name;
+  int changed = 0;
+  for (nlohmann::json& o : j["objects"]) {
+    if (!o.contains("material") || o["material"].value("type", "") != type) continue;
+    edit(o["material"]);
+    ++changed;
+  }
+  if (changed == 0) throw std::runtime_error("scene '" + builtin + "' has no " + type + " object to derive from");
   const fs::path out = dir / (name + ".json");
   std::ofstream(out) << j.dump(2) << "\n";
   return out;
