@@ -23,6 +23,10 @@
 // | α is clamped to ≥ 1e-4 and a distribution with α < 1e-3 (float) is rendered as a perfect mirror | source (EffectivelySmooth); furnace's α ≥ 1e-3 never reaches it, the export refuses it anyway |
 // | a GGX surface whose light reaches the eye only along its normal (planar, facing the orthographic camera, every other object black or in its plane) has equal separable and height-correlated G2 (Λ(n) = 0) | ggx_sky_strips and ggx_disk_occluder (both forms) pass exported with pbrt's height-correlated G2 |
 // | the independent sampler's numbers depend only on (pixel, seed); a seed in the file overrides `pbrt --seed` | equal seeds give pixel-identical renders, distinct ones differ; source (samplers.cpp) |
+// | "dielectric" with "float eta" η is a constant index (no dispersion), η = index behind the normal / index in front (furnace's eta, same fronts); roughness 0 is smooth (exact Fresnel chooses R or T), else Walter 2007 with F at the microfacet, height-correlated G2 and exact visible-normal sampling; transmitted radiance divided by η′² (furnace's radiance convention) | glass_sphere, the smooth interface from both sides and the rough-glass scenes (height-correlated) pass with --convention radiance; the same render checked with --convention none fails; η 1.45 for 1.5 fails; source (DielectricBxDF, bxdfs.cpp) |
+// | maxdepth M allows M − 2 internal reflections in a closed smooth object: a --max-depth S export renders furnace's S-segment reference | glass_sphere exported at 4 segments passes the 4-segment check and fails the 3- and 5-segment ones |
+// | light sampling and MIS through rough transmission are right in 5f7a6068 (the 2021 fix dfa11074 of f and pdf both missing η′²) | glass_rough_disk_inside (height-correlated: a disk light inside the glass) passes |
+// | a conductor with constant spectra "spectrum eta" [300 n 900 n], "spectrum k" [300 k 900 k] reflects pbrt's exact FrComplex(ωo·m, n + ik), furnace's conductor Fresnel | conductor_fresnel_sky_60 and _sphere_60 (height-correlated) pass; the gold strips rendered with F ≡ 1 fail |
 #include "export/pbrt_v4.h"
 
 #include <algorithm>
@@ -52,6 +56,13 @@ constexpr double kPbrtMaxConductorReflectance = 0.9999;
 // (in float) as effectively smooth: a perfect specular conductor
 // (TrowbridgeReitzDistribution::EffectivelySmooth, util/scattering.h).
 constexpr float kPbrtMinRoughAlpha = 1e-3f;
+
+// Whether light crosses a dielectric in `scene`: its check needs the
+// transport convention pbrt-v4 renders.
+bool has_dielectric(const Scene& scene) {
+  return std::any_of(scene.objects.begin(), scene.objects.end(),
+                     [](const Object& o) { return reflects(o.material) && o.material.as<Dielectric>(); });
+}
 
 std::string point(const Vec3& p) { return fmt::format("{} {} {}", num(p.x), num(p.y), num(p.z)); }
 std::string constant_spectrum(double value) { return fmt::format("[300 {0} 900 {0}]", value); }
@@ -99,35 +110,77 @@ PbrtMaterial diffuse(double albedo) {
 }
 PbrtMaterial refused(std::string reason) { return {"", std::move(reason)}; }
 
-// A GGX surface as pbrt-v4's rough conductor with F ≡ 1 (η + ik = i: both
-// polarisations reflect fully at every angle), α written as itself
-// (remaproughness false). pbrt-v4 implements the height-correlated Smith
-// form only, and its conductor has no constant factor on f.
+// Why pbrt-v4, whose microfacet distribution is height-correlated only,
+// cannot render the object scene.objects[index] with `shadowing`; empty when
+// it can (the separable form is written as height-correlated only where the
+// forms agree: every path leaves the surface towards the eye along its
+// normal).
+std::optional<std::string> shadowing_refusal(const Scene& scene, size_t index, MicrofacetShadowing shadowing) {
+  switch (shadowing) {
+    case MicrofacetShadowing::kHeightCorrelated:
+      return std::nullopt;
+    case MicrofacetShadowing::kSeparable:
+      if (auto reason = not_seen_only_along_normal(scene, index))
+        return fmt::format("the object {} uses the separable Smith form, which pbrt-v4 does not implement (its G2 "
+                           "is height-correlated), and the forms differ here: {}",
+                           object_material_text(scene, index), *reason);
+      return std::nullopt;
+  }
+  FURNACE_CHECK(false);
+  return std::nullopt;
+}
+
+// Why pbrt-v4 would not render the microfacet object scene.objects[index]
+// of roughness α as rough; empty when it does.
+std::optional<std::string> alpha_refusal(const Scene& scene, size_t index, double alpha) {
+  if (static_cast<float>(alpha) >= kPbrtMinRoughAlpha) return std::nullopt;
+  return fmt::format("the object {} has alpha {}, and pbrt-v4 renders a microfacet surface with alpha below {} as "
+                     "perfectly smooth",
+                     object_material_text(scene, index), alpha, kPbrtMinRoughAlpha);
+}
+
+// A GGX surface as pbrt-v4's rough conductor, α written as itself
+// (remaproughness false), with the scene's complex index n + ik as constant
+// spectra when it has Fresnel, else η + ik = i (both polarisations reflect
+// fully at every angle: F ≡ 1). pbrt-v4 implements the height-correlated
+// Smith form only, and its conductor has no constant factor on f.
 PbrtMaterial ggx_conductor(const Scene& scene, size_t index, const Ggx& ggx) {
   const Material& m = scene.objects[index].material;
   const std::string what = object_material_text(scene, index);
   if (m.albedo != 1)
     return refused(fmt::format("the GGX object {} has albedo {}, and pbrt-v4's conductor has no constant factor "
-                               "on its reflection (the export writes F ≡ 1, exact for albedo 1 only)",
+                               "on its reflection (the export is exact for albedo 1 only)",
                                what, m.albedo));
-  if (static_cast<float>(ggx.alpha) < kPbrtMinRoughAlpha)
-    return refused(fmt::format("the GGX object {} has alpha {}, and pbrt-v4 renders a conductor with alpha below "
-                               "{} as a perfect mirror",
-                               what, ggx.alpha, kPbrtMinRoughAlpha));
-  switch (ggx.shadowing) {
-    case MicrofacetShadowing::kHeightCorrelated:
-      break;
-    case MicrofacetShadowing::kSeparable:
-      // The forms agree where every path leaves the surface along its normal.
-      if (auto reason = not_seen_only_along_normal(scene, index))
-        return refused(fmt::format("the GGX object {} uses the separable Smith form, which pbrt-v4 does not "
-                                   "implement (its G2 is height-correlated), and the forms differ here: {}",
-                                   what, *reason));
-      break;
-  }
-  return {fmt::format("Material \"conductor\" \"spectrum eta\" [300 0 900 0] \"spectrum k\" [300 1 900 1] "
-                      "\"float roughness\" {} \"bool remaproughness\" false\n",
-                      num(ggx.alpha)),
+  if (auto reason = alpha_refusal(scene, index, ggx.alpha)) return refused(*reason);
+  if (auto reason = shadowing_refusal(scene, index, ggx.shadowing)) return refused(*reason);
+  const double eta = ggx.fresnel ? ggx.fresnel->eta : 0;
+  const double k = ggx.fresnel ? ggx.fresnel->k : 1;
+  return {fmt::format("Material \"conductor\" \"spectrum eta\" {} \"spectrum k\" {} \"float roughness\" {} "
+                      "\"bool remaproughness\" false\n",
+                      constant_spectrum(eta), constant_spectrum(k), num(ggx.alpha)),
+          std::nullopt};
+}
+
+// A dielectric as pbrt-v4's "dielectric": "float eta" (a constant index, so
+// no wavelength is terminated for dispersion) is the index behind the
+// surface normal relative to the one in front, furnace's eta with the same
+// fronts; a rough one is Walter et al. 2007 with pbrt's height-correlated
+// GGX, α as itself. pbrt-v4 transports radiance (1/η′² on transmission).
+PbrtMaterial dielectric(const Scene& scene, size_t index, const Dielectric& d) {
+  const Material& m = scene.objects[index].material;
+  const std::string what = object_material_text(scene, index);
+  if (m.albedo != 1)
+    return refused(fmt::format("the dielectric {} has albedo {}, and pbrt-v4's dielectric has no constant factor "
+                               "on its reflection and transmission (the export is exact for albedo 1 only)",
+                               what, m.albedo));
+  if (d.smooth())
+    return {fmt::format("Material \"dielectric\" \"float eta\" {} \"float roughness\" 0\n", num(d.eta)),
+            std::nullopt};
+  if (auto reason = alpha_refusal(scene, index, d.alpha)) return refused(*reason);
+  if (auto reason = shadowing_refusal(scene, index, d.shadowing)) return refused(*reason);
+  return {fmt::format("Material \"dielectric\" \"float eta\" {} \"float roughness\" {} "
+                      "\"bool remaproughness\" false\n",
+                      num(d.eta), num(d.alpha)),
           std::nullopt};
 }
 
@@ -155,17 +208,8 @@ PbrtMaterial pbrt_material(const Scene& scene, size_t index) {
                                               "have",
                                               object_material_text(scene, index)));
                  },
-                 [&](const Ggx& ggx) {
-                   if (ggx.fresnel)
-                     return refused(fmt::format("the object {} is a GGX conductor with Fresnel, which this exporter "
-                                                "does not write yet",
-                                                object_material_text(scene, index)));
-                   return ggx_conductor(scene, index, ggx);
-                 },
-                 [&](const Dielectric&) {
-                   return refused(fmt::format("the object {} is a dielectric, which this exporter does not write yet",
-                                              object_material_text(scene, index)));
-                 }},
+                 [&](const Ggx& ggx) { return ggx_conductor(scene, index, ggx); },
+                 [&](const Dielectric& d) { return dielectric(scene, index, d); }},
       m.bsdf);
 }
 
@@ -232,7 +276,7 @@ std::string header(const Scene& scene, const PbrtV4Options& options) {
       "# Scene '{}' ({}) exported by `furnace export --format pbrt-v4` for pbrt-v4 (facts measured with 5f7a6068).\n"
       "# Render K >= 2 times with distinct seeds, then test the images against the exact reference:\n"
       "#   pbrt --seed S --outfile render_S.exr this.pbrt\n"
-      "#   furnace check --scene {} --max-depth {} --image render_1.exr --image render_2.exr ...\n"
+      "#   furnace check --scene {} --max-depth {}{} --image render_1.exr --image render_2.exr ...\n"
       "# pbrt's answer is furnace's global illumination at {}{}.\n"
       "# Facts this file relies on:\n"
       "# - Option \"disablepixeljitter\": every camera ray passes through its pixel's centre, as furnace's one ray\n"
@@ -252,7 +296,7 @@ std::string header(const Scene& scene, const PbrtV4Options& options) {
       "#   see every shape, as furnace's camera does.\n"
       "# - {}\n",
       comment_text(scene.name), comment_text(scene.source), comment_text(scene.source),
-      depth_name(check_max_depth(scene, options)), depth_words, direct_lighting_clause(scene, options.max_segments),
+      depth_name(check_max_depth(scene, options)), has_dielectric(scene) ? " --convention radiance" : "", depth_words, direct_lighting_clause(scene, options.max_segments),
       max_depth, depth_words,
       options.seed ? fmt::format("\"integer seed\" {} is fixed here and overrides `pbrt --seed`.", *options.seed)
                    : std::string("No seed is set here: `pbrt --seed S` chooses the independent sampler's numbers,\n"
@@ -267,27 +311,53 @@ std::string header(const Scene& scene, const PbrtV4Options& options) {
         comment_text(o.name), o.material.albedo, o.material.albedo);
   }
   std::string ggx;
+  std::string glass;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const Object& o = scene.objects[i];
-    const Ggx* g = o.material.as<Ggx>();
-    if (!g || !reflects(o.material)) continue;
-    ggx += fmt::format("#   '{}' (alpha {}, shadowing {}): \"float roughness\" {}.\n", comment_text(o.name), g->alpha,
-                       microfacet_shadowing_name(g->shadowing), num(g->alpha));
-    if (g->shadowing == MicrofacetShadowing::kSeparable)
-      ggx += "#     The scene asks for the separable form: light leaves this surface towards the eye only along\n"
-             "#     its normal (it faces the orthographic camera; every other object is black or in its plane),\n"
-             "#     where the two forms are equal (Lambda(n) = 0), so pbrt's height-correlated G2 is exact here.\n";
+    if (!reflects(o.material)) continue;
+    const auto separable_note = [](MicrofacetShadowing s) {
+      return s == MicrofacetShadowing::kSeparable
+                 ? "#     The scene asks for the separable form: light leaves this surface towards the eye only along\n"
+                   "#     its normal (it faces the orthographic camera; every other object is black or in its plane),\n"
+                   "#     where the two forms are equal (Lambda(n) = 0), so pbrt's height-correlated G2 is exact here.\n"
+                 : "";
+    };
+    if (const Ggx* g = o.material.as<Ggx>()) {
+      ggx += fmt::format("#   '{}' (alpha {}, shadowing {}): \"float roughness\" {}, {}.\n", comment_text(o.name),
+                         g->alpha, microfacet_shadowing_name(g->shadowing), num(g->alpha),
+                         g->fresnel ? fmt::format("exact Fresnel of n + ik = {} + {}i", g->fresnel->eta, g->fresnel->k)
+                                    : std::string("F = 1 (eta + ik = i)"));
+      ggx += separable_note(g->shadowing);
+    }
+    if (const Dielectric* d = o.material.as<Dielectric>()) {
+      glass += fmt::format("#   '{}' (eta {}{}).\n", comment_text(o.name), d->eta,
+                           d->smooth() ? std::string(", smooth")
+                                       : fmt::format(", alpha {}, shadowing {}", d->alpha,
+                                                     microfacet_shadowing_name(d->shadowing)));
+      if (!d->smooth()) glass += separable_note(d->shadowing);
+    }
   }
   if (!ggx.empty())
     text +=
-        "# - GGX objects are rough conductors with \"spectrum eta\" [300 0 900 0] and \"spectrum k\" [300 1 900 1]:\n"
-        "#   eta + ik = i reflects both polarisations fully at every angle, so F = 1 exactly (every GGX albedo\n"
-        "#   here is 1; \"rgb reflectance\" [1 1 1] would leave 1 - F up to 5e-3). \"bool remaproughness\" false\n"
-        "#   makes \"roughness\" alpha itself (left true, pbrt takes alpha = sqrt(roughness)). pbrt's\n"
-        "#   Trowbridge-Reitz D, height-correlated Smith G2 and exact visible-normal sampler (Heitz 2018) are\n"
-        "#   furnace's. Measured: the GGX peer scenes pass; remaproughness true and albedo 0.99 for 1 fail\n"
-        "#   (tests/export/pbrt_peer_test.cpp).\n" +
+        "# - GGX objects are rough conductors with constant spectra \"spectrum eta\" [300 n 900 n] and \"spectrum k\"\n"
+        "#   [300 k 900 k]: pbrt's exact complex Fresnel (FrComplex at wo.m) of n + ik at every wavelength. A GGX\n"
+        "#   object without Fresnel has n + ik = i, which reflects both polarisations fully at every angle, so\n"
+        "#   F = 1 exactly (every GGX albedo here is 1; \"rgb reflectance\" [1 1 1] would leave 1 - F up to 5e-3).\n"
+        "#   \"bool remaproughness\" false makes \"roughness\" alpha itself\n"
+        "#   (left true, pbrt takes alpha = sqrt(roughness)). pbrt's Trowbridge-Reitz D, height-correlated Smith G2\n"
+        "#   and exact visible-normal sampler (Heitz 2018) are furnace's. Measured: the GGX and conductor-Fresnel\n"
+        "#   peer scenes pass; remaproughness true and albedo 0.99 for 1 fail (tests/export/pbrt_peer_test.cpp).\n" +
         ggx;
+  if (!glass.empty())
+    text +=
+        "# - Dielectrics are pbrt's \"dielectric\" with \"float eta\": a constant index (a spectrum eta would be\n"
+        "#   dispersive), the index behind the surface normal relative to the one in front, as furnace's eta\n"
+        "#   (triangles face cross(p1 - p0, p2 - p0), spheres outward). Smooth ones have roughness 0; rough ones\n"
+        "#   \"float roughness\" alpha with \"bool remaproughness\" false: Walter et al. 2007 with Fresnel at the\n"
+        "#   microfacet normal, height-correlated Smith G2 and exact visible-normal sampling, furnace's model.\n"
+        "#   pbrt-v4 transports radiance (transmitted radiance divided by eta'^2), furnace's radiance convention:\n"
+        "#   check with --convention radiance. maxdepth M allows M - 2 internal reflections in a closed object.\n" +
+        glass;
   return text + "\n";
 }
 

@@ -69,10 +69,9 @@ TEST(PbrtV4Export, RefusesExactlyTheImageEnvironmentsAndGlossyScenesAmongTheBuil
   EXPECT_EQ(refused, (std::set<std::string>{"environment_map", "environment_map_tilted", "glossy_environment",
                                             "glossy_sphere_light", "ggx_sky_strips", "ggx_disk_occluder", "ggx_oblique_sky_60",
                                             "ggx_oblique_sky_78", "ggx_oblique_sphere_60", "ggx_oblique_sphere_78",
-                                            // not written yet: dielectrics, conductor Fresnel
-                                            "glass_rough_disk_inside", "glass_rough_inside_45", "glass_rough_normal",
-                                            "glass_rough_outside_60", "glass_smooth_inside_30", "glass_smooth_inside_60",
-                                            "glass_smooth_outside_60", "glass_sphere", "conductor_fresnel_sky_60",
+                                            // a separable strip seen obliquely beside the height-correlated ones
+                                            "glass_rough_disk_inside", "glass_rough_inside_45",
+                                            "glass_rough_outside_60", "conductor_fresnel_sky_60",
                                             "conductor_fresnel_sphere_60"}));
 }
 
@@ -139,13 +138,23 @@ std::optional<std::string> expected_material(const Material& m) {
       return std::nullopt;
     case BsdfType::kGgx:  // albedo 1 only, in a scene whose Smith form pbrt has (refused elsewhere)
       if (m.albedo == 0) return diffuse(0);
-      if (m.albedo != 1 || std::get<Ggx>(m.bsdf).fresnel) return std::nullopt;  // Fresnel: not written yet
+      if (m.albedo != 1) return std::nullopt;
+      if (const auto& f = std::get<Ggx>(m.bsdf).fresnel)  // exact complex Fresnel, constant over wavelength
+        return fmt::format("Material \"conductor\" \"spectrum eta\" [300 {0} 900 {0}] \"spectrum k\" [300 {1} 900 "
+                           "{1}] \"float roughness\" {2} \"bool remaproughness\" false",
+                           f->eta, f->k, std::get<Ggx>(m.bsdf).alpha);
       return fmt::format("Material \"conductor\" \"spectrum eta\" [300 0 900 0] \"spectrum k\" [300 1 900 1] "
                          "\"float roughness\" {} \"bool remaproughness\" false",
                          std::get<Ggx>(m.bsdf).alpha);
-    case BsdfType::kDielectric:  // not written yet: refused (a black one is a black diffuse surface)
+    case BsdfType::kDielectric: {  // albedo 1 only (a black one is a black diffuse surface)
       if (m.albedo == 0) return diffuse(0);
-      return std::nullopt;
+      if (m.albedo != 1) return std::nullopt;
+      const Dielectric& d = std::get<Dielectric>(m.bsdf);
+      if (d.smooth()) return fmt::format("Material \"dielectric\" \"float eta\" {} \"float roughness\" 0", d.eta);
+      return fmt::format("Material \"dielectric\" \"float eta\" {} \"float roughness\" {} \"bool remaproughness\" "
+                         "false",
+                         d.eta, d.alpha);
+    }
   }
   return std::nullopt;
 }
@@ -234,8 +243,8 @@ TEST(PbrtV4Export, GgxRefusesAnAlbedoOtherThanOneNamingTheObject) {
   EXPECT_EQ(refusal_of(scene),
             "scene 'ggx_sky_strips' (" + scene.source + ") cannot be exported to pbrt-v4: the GGX object 'ggx_a1' "
             "(objects[0].material.type \"ggx\", albedo 0.8, alpha 1, shadowing \"height_correlated\") has albedo "
-            "0.8, and pbrt-v4's conductor has no constant factor on its reflection (the export writes F ≡ 1, exact "
-            "for albedo 1 only).");
+            "0.8, and pbrt-v4's conductor has no constant factor on its reflection (the export is exact for albedo 1 "
+            "only).");
   EXPECT_TRUE(pbrt_v4_refusal(ggx_variant("ggx_sky_strips", 0.99)));
   EXPECT_FALSE(pbrt_v4_refusal(ggx_variant("ggx_sky_strips", 1)));
 }
@@ -248,7 +257,7 @@ TEST(PbrtV4Export, GgxRefusesAnAlphaPbrtWouldRenderAsAMirror) {
   EXPECT_FALSE(pbrt_v4_refusal(scene)) << refusal_of(scene);
   std::get<Ggx>(scene.objects[4].material.bsdf).alpha = 9.9e-4;
   const std::string reason = refusal_of(scene);
-  EXPECT_TRUE(contains(reason, "'ggx_a0.05'") && contains(reason, "as a perfect mirror")) << reason;
+  EXPECT_TRUE(contains(reason, "'ggx_a0.05'") && contains(reason, "as perfectly smooth")) << reason;
 }
 
 TEST(PbrtV4Export, GgxRefusesTheSeparableFormWhereItDiffersFromPbrtsHeightCorrelatedOne) {
@@ -275,12 +284,96 @@ TEST(PbrtV4Export, GgxSeparableAtNormalViewIsWrittenAndTheFileSaysWhyItIsExact) 
   const Scene scene = ggx_variant("ggx_sky_strips", 1);  // separable and height-correlated strips
   ASSERT_FALSE(pbrt_v4_refusal(scene)) << refusal_of(scene);
   const std::string text = export_pbrt_v4(scene, {});
-  EXPECT_TRUE(contains(text, "#   'ggx_a0.5' (alpha 0.5, shadowing separable): \"float roughness\" 0.5.\n"
+  EXPECT_TRUE(contains(text, "#   'ggx_a0.5' (alpha 0.5, shadowing separable): \"float roughness\" 0.5, F = 1 (eta + "
+                             "ik = i).\n"
                              "#     The scene asks for the separable form")) << text;
   EXPECT_TRUE(contains(text, "#     where the two forms are equal (Lambda(n) = 0)")) << text;
   // The height-correlated strips get no such note.
-  EXPECT_TRUE(contains(text, "#   'ggx_a1' (alpha 1, shadowing height_correlated): \"float roughness\" 1.\n#   'ggx_a0.5'"))
+  EXPECT_TRUE(contains(text, "#   'ggx_a1' (alpha 1, shadowing height_correlated): \"float roughness\" 1, F = 1 (eta + "
+                             "ik = i).\n#   'ggx_a0.5'"))
       << text;
+}
+
+// Every microfacet material (GGX and rough dielectric) of a built-in scene
+// set to the height-correlated form, which pbrt-v4 has.
+Scene height_correlated(const std::string& name) {
+  Scene scene = builtin(name);
+  for (Object& o : scene.objects) {
+    if (Ggx* g = std::get_if<Ggx>(&o.material.bsdf)) g->shadowing = MicrofacetShadowing::kHeightCorrelated;
+    if (Dielectric* d = std::get_if<Dielectric>(&o.material.bsdf)) d->shadowing = MicrofacetShadowing::kHeightCorrelated;
+  }
+  return scene;
+}
+
+TEST(PbrtV4Export, ConductorFresnelIsTheComplexIndexAsConstantSpectra) {
+  const Scene scene = height_correlated("conductor_fresnel_sky_60");
+  ASSERT_FALSE(pbrt_v4_refusal(scene)) << refusal_of(scene);
+  const std::string text = export_pbrt_v4(scene, {});
+  EXPECT_TRUE(contains(text, "Material \"conductor\" \"spectrum eta\" [300 0.2 900 0.2] \"spectrum k\" [300 3.4 900 3.4] "
+                             "\"float roughness\" 1 \"bool remaproughness\" false\n"))
+      << text;
+  EXPECT_TRUE(contains(text, "#   'lowk_a0.3_hc' (alpha 0.3, shadowing height_correlated): \"float roughness\" 0.3, "
+                             "exact Fresnel of n + ik = 1.5 + 0.1i.\n"))
+      << text;
+  // No dielectric: the check line needs no convention.
+  EXPECT_FALSE(contains(text, "--convention")) << text.substr(0, 600);
+}
+
+TEST(PbrtV4Export, DielectricsAreWrittenWithAConstantEtaAndAlphaUnremapped) {
+  {
+    const Scene smooth = builtin("glass_sphere");
+    ASSERT_FALSE(pbrt_v4_refusal(smooth)) << refusal_of(smooth);
+    const std::string text = export_pbrt_v4(smooth, {});
+    EXPECT_TRUE(contains(text, "Material \"dielectric\" \"float eta\" 1.5 \"float roughness\" 0\n")) << text;
+    EXPECT_TRUE(contains(text, "#   'glass_ball' (eta 1.5, smooth).\n")) << text;
+    // pbrt-v4 renders the radiance convention, and the check line says so.
+    EXPECT_TRUE(contains(text, "--max-depth unlimited --convention radiance --image")) << text.substr(0, 600);
+    EXPECT_TRUE(contains(text, "maxdepth M allows M - 2 internal reflections in a closed object")) << text;
+  }
+  {
+    const Scene rough = height_correlated("glass_rough_disk_inside");
+    ASSERT_FALSE(pbrt_v4_refusal(rough)) << refusal_of(rough);
+    const std::string text = export_pbrt_v4(rough, {});
+    EXPECT_TRUE(contains(text, "Material \"dielectric\" \"float eta\" 1.5 \"float roughness\" 0.3 "
+                               "\"bool remaproughness\" false\n"))
+        << text;
+    EXPECT_TRUE(contains(text, "#   'glass_a1' (eta 1.5, alpha 1, shadowing height_correlated).\n")) << text;
+  }
+  {
+    // Eta below 1 (the denser medium in front of the normal) is written as it is.
+    Scene inverted = builtin("glass_smooth_outside_60");
+    std::get<Dielectric>(inverted.objects[0].material.bsdf).eta = 1 / 1.5;
+    EXPECT_TRUE(contains(export_pbrt_v4(inverted, {}), fmt::format("\"float eta\" {} ", 1 / 1.5)));
+  }
+}
+
+TEST(PbrtV4Export, DielectricRefusalsNameTheObjectFieldAndValue) {
+  {
+    Scene tinted = builtin("glass_sphere");
+    tinted.objects[0].material.albedo = 0.9;
+    const std::string reason = refusal_of(tinted);
+    EXPECT_TRUE(contains(reason, "'glass_ball' (objects[0].material.type \"dielectric\", albedo 0.9, eta 1.5") &&
+                contains(reason, "has albedo 0.9, and pbrt-v4's dielectric has no constant factor"))
+        << reason;
+    tinted.objects[0].material.albedo = 0;  // black: a black diffuse surface
+    EXPECT_FALSE(pbrt_v4_refusal(tinted)) << refusal_of(tinted);
+  }
+  {
+    Scene nearly_smooth = builtin("glass_rough_normal");
+    std::get<Dielectric>(nearly_smooth.objects[0].material.bsdf).alpha = 9.9e-4;
+    const std::string reason = refusal_of(nearly_smooth);
+    EXPECT_TRUE(contains(reason, "'glass_a0.1'") && contains(reason, "as perfectly smooth")) << reason;
+  }
+  {
+    // At normal view the separable strip is written; at 60 degrees it is refused.
+    EXPECT_FALSE(pbrt_v4_refusal(builtin("glass_rough_normal")));
+    const std::string reason = refusal_of(builtin("glass_rough_outside_60"));
+    EXPECT_TRUE(contains(reason, "'glass_a0.3_sep' (objects[2].material.type \"dielectric\", albedo 1, eta 1.5, "
+                                 "alpha 0.3, shadowing \"separable\") uses the separable Smith form") &&
+                contains(reason, "not perpendicular to the camera's forward direction"))
+        << reason;
+    EXPECT_FALSE(pbrt_v4_refusal(height_correlated("glass_rough_outside_60")));
+  }
 }
 
 TEST(PbrtV4Export, AcceptsAMirrorMetOnlyAtNormalIncidenceAndSaysWhatItMeans) {
