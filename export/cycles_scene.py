@@ -9,8 +9,13 @@
 #              'objects': [{'name', 'albedo', 'mirror': Glossy SHARP if True,
 #                           'ggx': None, or (distribution, roughness) for a Glossy BSDF of that
 #                                  distribution ('GGX' or 'MULTI_GGX') and roughness,
+#                           'glass': None, or (distribution, IOR, roughness) for a Glass BSDF
+#                                  ('SHARP' as exported),
 #                           else Diffuse,
-#                           'emission', 'two_sided', 'vertices', 'triangles'}]}
+#                           'emission', 'two_sided',
+#                           'smooth_about': None (flat shading), or a centre: smooth shading with
+#                                  the unit normal from that centre at each vertex (a sphere's own),
+#                           'vertices', 'triangles'}]}
 #   FILTER    (Cycles' pixel filter type, its width in pixels)
 #   SEED_MAX, SPP_MAX   Blender's limits of scene.cycles.seed and .samples
 # and then everything below the marker line, byte for byte: the build embeds
@@ -25,7 +30,7 @@ import sys
 import time
 
 import bpy
-from mathutils import Matrix
+from mathutils import Matrix, Vector
 
 
 def arguments():
@@ -86,6 +91,12 @@ def material(o):
             bsdf = nodes.new('ShaderNodeBsdfGlossy')
             bsdf.distribution = o['ggx'][0]
             bsdf.inputs['Roughness'].default_value = o['ggx'][1]
+        elif o['glass'] is not None:
+            # Every input set: Blender 3.x creates a Glass node as Beckmann of IOR 1.45.
+            bsdf = nodes.new('ShaderNodeBsdfGlass')
+            bsdf.distribution = o['glass'][0]
+            bsdf.inputs['IOR'].default_value = o['glass'][1]
+            bsdf.inputs['Roughness'].default_value = o['glass'][2]
         else:
             bsdf = nodes.new('ShaderNodeBsdfDiffuse')
             bsdf.inputs['Roughness'].default_value = 0.0
@@ -120,6 +131,13 @@ def build(spp, threads):
         mesh = bpy.data.meshes.new(o['name'])
         mesh.from_pydata(o['vertices'], [], o['triangles'])
         mesh.update()
+        if o['smooth_about'] is not None:
+            centre = Vector(o['smooth_about'])
+            mesh.use_auto_smooth = True
+            for polygon in mesh.polygons:
+                polygon.use_smooth = True
+            mesh.normals_split_custom_set_from_vertices([tuple((Vector(v) - centre).normalized())
+                                                         for v in o['vertices']])
         mesh.materials.append(material(o))
         scene.collection.objects.link(bpy.data.objects.new(o['name'], mesh))
 

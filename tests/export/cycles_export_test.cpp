@@ -64,10 +64,9 @@ TEST(CyclesExport, RefusesExactlyImageEnvironmentsPointLightsAndGlossyScenesAmon
                                             "glossy_sphere_light", "point_light", "point_light_unoccluded",
                                             "point_and_area", "ggx_oblique_sky_60", "ggx_oblique_sky_78",
                                             "ggx_oblique_sphere_60", "ggx_oblique_sphere_78",
-                                            // not written yet: dielectrics, conductor Fresnel
+                                            // rough glass and conductor Fresnel: not Cycles 3.4's models
                                             "glass_rough_disk_inside", "glass_rough_inside_45", "glass_rough_normal",
-                                            "glass_rough_outside_60", "glass_smooth_inside_30", "glass_smooth_inside_60",
-                                            "glass_smooth_outside_60", "glass_sphere", "conductor_fresnel_sky_60",
+                                            "glass_rough_outside_60", "conductor_fresnel_sky_60",
                                             "conductor_fresnel_sphere_60"}));
 }
 
@@ -114,7 +113,8 @@ TEST(CyclesExport, PhongRefusalNamesSceneObjectFieldAndValue) {
 struct ScriptMaterial {
   double albedo;
   bool mirror;
-  std::string ggx = "None";  // the script's 'ggx' value, e.g. ('GGX', 0.5)
+  std::string ggx = "None";    // the script's 'ggx' value, e.g. ('GGX', 0.5)
+  std::string glass = "None";  // the script's 'glass' value, e.g. ('SHARP', 1.5, 0.0)
 };
 std::optional<ScriptMaterial> expected_material(const Object& o) {
   switch (o.material.type()) {
@@ -132,19 +132,23 @@ std::optional<ScriptMaterial> expected_material(const Object& o) {
       if (std::get<Ggx>(o.material.bsdf).fresnel) return std::nullopt;  // not written yet: refused
       return ScriptMaterial{o.material.albedo, false,
                             fmt::format("('GGX', {})", std::sqrt(std::get<Ggx>(o.material.bsdf).alpha))};
-    case BsdfType::kDielectric:  // not written yet: refused (a black one is a black diffuse surface)
+    case BsdfType::kDielectric: {  // smooth: Glass SHARP, IOR η, Color albedo; rough: refused
       if (o.material.albedo == 0) return ScriptMaterial{0, false};
-      return std::nullopt;
+      const Dielectric& d = std::get<Dielectric>(o.material.bsdf);
+      if (!d.smooth()) return std::nullopt;
+      return ScriptMaterial{o.material.albedo, false, "None", fmt::format("('SHARP', {}, 0.0)", d.eta)};
+    }
   }
   return std::nullopt;
 }
 
-// Each object's name, albedo, mirror flag and 'ggx' value in the script's SCENE data, in order.
-std::vector<std::tuple<std::string, double, bool, std::string>> script_materials(const std::string& text) {
-  std::vector<std::tuple<std::string, double, bool, std::string>> materials;
-  const std::regex entry(R"(\{'name': '([^']*)', 'albedo': ([^,]+), 'mirror': (True|False), 'ggx': (None|\('[A-Z_]+', [^)]+\)),)");
+// Each object's name, albedo, mirror flag, 'ggx' and 'glass' values in the script's SCENE data, in order.
+std::vector<std::tuple<std::string, double, bool, std::string, std::string>> script_materials(const std::string& text) {
+  std::vector<std::tuple<std::string, double, bool, std::string, std::string>> materials;
+  const std::regex entry(R"(\{'name': '([^']*)', 'albedo': ([^,]+), 'mirror': (True|False), 'ggx': (None|\('[A-Z_]+', [^)]+\)), 'glass': (None|\('[A-Z_]+', [^)]+\)),)");
   for (auto it = std::sregex_iterator(text.begin(), text.end(), entry); it != std::sregex_iterator(); ++it)
-    materials.emplace_back((*it)[1].str(), std::stod((*it)[2].str()), (*it)[3].str() == "True", (*it)[4].str());
+    materials.emplace_back((*it)[1].str(), std::stod((*it)[2].str()), (*it)[3].str() == "True", (*it)[4].str(),
+                           (*it)[5].str());
   return materials;
 }
 
@@ -167,6 +171,7 @@ TEST(CyclesExport, EveryMaterialOfTheBuiltInScenesIsExportedAsItselfOrRefusedNam
       EXPECT_EQ(std::get<1>(materials[i]), expected->albedo) << scene.name << ": " << o.name;
       EXPECT_EQ(std::get<2>(materials[i]), expected->mirror) << scene.name << ": " << o.name;
       EXPECT_EQ(std::get<3>(materials[i]), expected->ggx) << scene.name << ": " << o.name;
+      EXPECT_EQ(std::get<4>(materials[i]), expected->glass) << scene.name << ": " << o.name;
       coverage.count_written(o);
     }
   }
@@ -261,6 +266,65 @@ TEST(CyclesExport, PlanarMirrorIsGlossySharp) {
   EXPECT_TRUE(contains(text, "bsdf.distribution = 'SHARP'"));
 }
 
+TEST(CyclesExport, SmoothGlassIsGlassSharpOfIorEtaAndTheHeaderStatesTheGlassFacts) {
+  const std::string text = export_cycles(builtin("glass_smooth_inside_30"), {});
+  EXPECT_TRUE(contains(text, "'name': 'interface', 'albedo': 1, 'mirror': False, 'ggx': None, 'glass': ('SHARP', 1.5, 0.0),"))
+      << text.substr(0, 8000);
+  EXPECT_TRUE(contains(text, "'smooth_about': None,"));
+  EXPECT_TRUE(contains(text, "bsdf = nodes.new('ShaderNodeBsdfGlass')"));
+  EXPECT_TRUE(contains(text, "bsdf.inputs['IOR'].default_value = o['glass'][1]"));
+  const std::string header = header_of(text);
+  EXPECT_TRUE(contains(header, "check with --convention none")) << header;
+  EXPECT_TRUE(contains(header, "Beckmann, IOR 1.45")) << header;
+  EXPECT_TRUE(contains(header, "K <= min(B - 1, glossy)")) << header;
+  EXPECT_FALSE(contains(header, "glass sphere is the mesh below shaded smooth")) << header;
+  EXPECT_TRUE(contains(text, "cy.blur_glossy = 0.0"));
+  EXPECT_TRUE(contains(text, "cy.caustics_refractive = True"));
+  EXPECT_TRUE(contains(text, "cy.sample_clamp_indirect = 0.0"));
+  EXPECT_TRUE(contains(text, "cy.transmission_bounces = bounces"));
+  EXPECT_TRUE(contains(text, "cy.glossy_bounces = bounces"));
+  const std::string sphere = export_cycles(builtin("glass_sphere"), {});
+  EXPECT_TRUE(contains(sphere, "'glass': ('SHARP', 1.5, 0.0), 'emission': 0, 'two_sided': False,\n"
+                               "         'smooth_about': (0, 0, 0),\n"))
+      << header_of(sphere);
+  EXPECT_TRUE(contains(header_of(sphere), "glass sphere is the mesh below shaded smooth")) << header_of(sphere);
+  // A glass of albedo 0.8 is Color 0.8 (both closures' weights scale by Color).
+  Scene grey = builtin("glass_smooth_outside_60");
+  grey.objects[0].material.albedo = 0.8;
+  EXPECT_TRUE(contains(export_cycles(grey, {}), "'albedo': 0.8, 'mirror': False, 'ggx': None, 'glass': ('SHARP', 1.5, 0.0),"));
+}
+
+TEST(CyclesExport, RoughGlassConductorFresnelAndFacetedGlassSpheresAreRefusedWithTheirReasons) {
+  const Scene rough = builtin("glass_rough_normal");
+  EXPECT_EQ(refusal_of(rough),
+            "scene 'glass_rough_normal' (" + rough.source + ") cannot be exported to Cycles: the object 'glass_a0.1' "
+            "(objects[0].material.type \"dielectric\", albedo 1, eta 1.5, alpha 0.1, shadowing \"height_correlated\") "
+            "is a rough dielectric, which Cycles 3.4's Glass BSDF does not render as Walter et al. 2007's model that "
+            "furnace checks: it weights a GGX reflection closure by the Fresnel reflectance at the shading normal and "
+            "a GGX refraction closure by one minus it (not per microfacet), with the separable Smith G2 and an "
+            "approximate visible-normal sampler (docs/findings.md measures the difference).");
+  const std::string conductor = refusal_of(builtin("conductor_fresnel_sky_60"));
+  EXPECT_TRUE(contains(conductor, "GGX conductor with the exact Fresnel reflectance of a complex index") &&
+              contains(conductor, "cannot express") && contains(conductor, "approximation"))
+      << conductor;
+  // A glass sphere only where its facets cannot change the answer: not beside a Lambertian object, not lit
+  // by an emitter, not absorbing.
+  Scene beside = builtin("glass_sphere");
+  Object floor = builtin("environment_blocker").objects[0];
+  beside.objects.push_back(floor);
+  const std::string reason = refusal_of(beside);
+  EXPECT_TRUE(contains(reason, "'glass_ball'") && contains(reason, "is a sphere") &&
+              contains(reason, "is not clear smooth glass"))
+      << reason;
+  Scene grey = builtin("glass_sphere");
+  grey.objects[0].material.albedo = 0.9;
+  EXPECT_TRUE(cycles_refusal(grey));
+  // A planar glass object is written wherever it is.
+  Scene quad_beside = builtin("glass_smooth_outside_60");
+  quad_beside.objects.push_back(floor);
+  EXPECT_FALSE(cycles_refusal(quad_beside)) << refusal_of(quad_beside);
+}
+
 TEST(CyclesExport, MaxBouncesIsSegmentsMinusTwoAndUnlimitedIsBlendersLargest) {
   EXPECT_EQ(cycles_max_bounces(2), 0);
   EXPECT_EQ(cycles_max_bounces(6), 4);
@@ -307,7 +371,7 @@ TEST(CyclesExport, WritesTheRenderSettingsItsFactsNeed) {
 
 TEST(CyclesExport, OneSidedEmittersAreMarkedAndTheBuilderMixesByBackfacing) {
   const std::string one = export_cycles(builtin("disk_occluder"), {});
-  EXPECT_TRUE(contains(one, "'name': 'light', 'albedo': 0, 'mirror': False, 'ggx': None, 'emission': 4, 'two_sided': False"));
+  EXPECT_TRUE(contains(one, "'name': 'light', 'albedo': 0, 'mirror': False, 'ggx': None, 'glass': None, 'emission': 4, 'two_sided': False"));
   EXPECT_TRUE(contains(one, "links.new(geometry.outputs['Backfacing'], front_only.inputs['Fac'])"));
   const std::string two = export_cycles(builtin("enclosure_sphere"), {});
   EXPECT_TRUE(contains(two, "'emission': 1.5, 'two_sided': True")) << header_of(two);
@@ -682,6 +746,8 @@ nlohmann::json expected_graph(const Object& o) {
     surface = m->mirror                     ? json::array({"Glossy", "SHARP", m->albedo})
               : o.material.as<Ggx>() ? json::array({"Glossy", "GGX", m->albedo,
                                                     std::sqrt(o.material.as<Ggx>()->alpha)})
+              : m->glass != "None"   ? json::array({"Glass", "SHARP", m->albedo,
+                                                    o.material.as<Dielectric>()->eta, 0.0})
                                      : json::array({"Diffuse", m->albedo, 0.0});
   if (o.is_emitter()) {
     emitted = json::array({"Emission", 1.0, o.emitted_radiance});
@@ -706,7 +772,7 @@ TEST_F(CyclesExportFile, TheBuilderMakesEachMaterialsNodeGraphAsTheSceneStatesIt
   int graphs = 0, one_sided = 0;
   for (const char* name :
        {"disk_occluder", "mirror_disk", "enclosure_sphere", "back_facing_emitters", "environment_blocker",
-        "ggx_sky_strips"}) {
+        "ggx_sky_strips", "glass_sphere", "glass_smooth_inside_30"}) {
     const Scene scene = builtin(name);
     const fs::path script = dir_ / (std::string(name) + ".py");
     write_cycles(scene, small, script);
@@ -724,6 +790,24 @@ TEST_F(CyclesExportFile, TheBuilderMakesEachMaterialsNodeGraphAsTheSceneStatesIt
         two_sided.two_sided = true;
         EXPECT_NE(actual["materials"][o.name], expected_graph(two_sided)) << name << ": " << o.name;
         ++one_sided;
+      }
+    }
+    // Smooth shading with the sphere's own normals for glass spheres only; flat elsewhere.
+    for (const Object& o : scene.objects) {
+      const nlohmann::json& shading = actual["shading"][o.name];
+      const Sphere* sphere = std::get_if<Sphere>(&o.shape);
+      const bool smooth = sphere && o.material.as<Dielectric>();
+      EXPECT_EQ(shading["smooth"].get<bool>(), smooth) << name << ": " << o.name;
+      EXPECT_EQ(shading["normals"].is_null(), !smooth) << name << ": " << o.name;
+      if (!smooth) continue;
+      const CyclesMesh mesh = cycles_mesh(o, small);
+      ASSERT_EQ(shading["normals"].size(), mesh.vertices.size());
+      for (size_t k = 0; k < mesh.vertices.size(); ++k) {
+        const Vec3 radial = normalize(mesh.vertices[k] - sphere->center);
+        const nlohmann::json& n = shading["normals"][k];
+        EXPECT_NEAR(n[0].get<double>(), radial.x, 1e-15);
+        EXPECT_NEAR(n[1].get<double>(), radial.y, 1e-15);
+        EXPECT_NEAR(n[2].get<double>(), radial.z, 1e-15);
       }
     }
     EXPECT_EQ(actual["world"], nlohmann::json::array({"Background", 1.0, scene.environment.radiance})) << name;

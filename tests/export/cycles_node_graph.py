@@ -6,10 +6,13 @@
 # bpy and mathutils are replaced by a recorder that keeps every node, socket
 # value and link the script makes; bpy.ops.render.render writes an empty
 # file where the script asks for the image. The output is one JSON object:
-#   {"materials": {name: graph}, "world": graph, "world_sampling": method}
+#   {"materials": {name: graph}, "world": graph, "world_sampling": method,
+#    "shading": {mesh name: {"smooth": all faces smooth, "normals": custom vertex normals or null,
+#                            "auto_smooth": bool}}}
 # with graph one of
 #   ["Diffuse", colour, roughness]    ["Glossy", "SHARP", colour]
 #   ["Glossy", distribution, colour, roughness] (GGX, MULTI_GGX)
+#   ["Glass", distribution, colour, IOR, roughness]
 #   ["Emission", colour, strength]    ["Background", colour, strength]
 #   ["Add", graph, graph]             ["Mix", graph (factor), graph, graph]
 #   ["Geometry", output name]         null (nothing linked)
@@ -101,10 +104,26 @@ def new_world(name):
 
 def new_mesh(name):
     mesh = Bag()
-    mesh.name, mesh.materials = name, []
-    mesh.from_pydata = lambda vertices, edges, faces: None
+    mesh.name, mesh.materials, mesh.polygons, mesh.custom_normals = name, [], [], None
+    mesh.from_pydata = lambda vertices, edges, faces: mesh.polygons.extend(Bag() for _ in faces)
     mesh.update = lambda: None
+
+    def set_normals(normals):
+        mesh.custom_normals = [list(n) for n in normals]
+    mesh.normals_split_custom_set_from_vertices = set_normals
     return mesh
+
+
+class Vector(tuple):
+    def __new__(cls, values):
+        return tuple.__new__(cls, values)
+
+    def __sub__(self, other):
+        return Vector(a - b for a, b in zip(self, other))
+
+    def normalized(self):
+        length = sum(a * a for a in self) ** 0.5
+        return Vector(a / length for a in self)
 
 
 def new_object(name, data):
@@ -137,6 +156,7 @@ bpy.data, bpy.context = data, types.SimpleNamespace(scene=scene)
 bpy.ops = types.SimpleNamespace(render=types.SimpleNamespace(render=render))
 mathutils = types.ModuleType('mathutils')
 mathutils.Matrix = lambda rows: rows
+mathutils.Vector = Vector
 sys.modules['bpy'], sys.modules['mathutils'] = bpy, mathutils
 
 
@@ -159,6 +179,9 @@ def graph(tree, socket):
         if n.distribution == 'SHARP':
             return ['Glossy', n.distribution, colour(inputs['Color'].default_value)]
         return ['Glossy', n.distribution, colour(inputs['Color'].default_value), inputs['Roughness'].default_value]
+    if n.kind == 'ShaderNodeBsdfGlass':
+        return ['Glass', n.distribution, colour(inputs['Color'].default_value), inputs['IOR'].default_value,
+                inputs['Roughness'].default_value]
     if n.kind == 'ShaderNodeEmission':
         return ['Emission', colour(inputs['Color'].default_value), inputs['Strength'].default_value]
     if n.kind == 'ShaderNodeAddShader':
@@ -184,7 +207,11 @@ def main():
     background = data.worlds[0].node_tree.nodes['Background']
     world = ['Background', colour(background.inputs['Color'].default_value),
              background.inputs['Strength'].default_value]
-    print(json.dumps({'materials': materials, 'world': world,
+    # Per mesh: whether every face is smooth-shaded, and its custom vertex normals (null when none).
+    shading = {m.name: {'smooth': bool(m.polygons) and all(p.use_smooth is True for p in m.polygons),
+                        'normals': m.custom_normals, 'auto_smooth': m.use_auto_smooth is True}
+               for m in data.meshes}
+    print(json.dumps({'materials': materials, 'world': world, 'shading': shading,
                       'world_sampling': data.worlds[0].cycles.sampling_method}))
 
 
