@@ -39,8 +39,11 @@ CLI::App* add_verify_command(CLI::App& app, VerifyCommandOptions& o) {
                                        "included, or 'unlimited' (default unlimited; the built-in suite sets its own)"))
       ->needs(scene);
   set_contract_footer(command, fmt::format("A test that cannot run (the variance test below {} spp) is skipped and "
-                                           "named, never failed; below a strategy's calibrated spp ({}) a warning "
-                                           "says alpha is not calibrated.",
+                                           "named, never failed. Where a strategy's second moment is modelled (most "
+                                           "direct-lighting cases) a mean below its reference is tested with the "
+                                           "exact variance (Bernstein's bound), valid at any spp; elsewhere, below "
+                                           "the strategy's calibrated spp ({}), a rejection makes the case "
+                                           "INCONCLUSIVE (exit 3, naming the spp that would judge it), not FAIL.",
                                            stats::kMinVarianceTestSamples, calibrated_spp_list()));
   command->add_option("--json", o.json_path, "Also write every number of the verdict table as JSON to FILE")
       ->check(output_file().description(""))->type_name("FILE");
@@ -91,10 +94,14 @@ int run_verify(const VerifyCommandOptions& o) {
   std::fputs(verify::format_table(verdicts, o.alpha).c_str(), stdout);
   if (!o.json_path.empty()) verify::write_verdicts_json(verdicts, o.alpha, o.json_path);
   if (!o.html_dir.empty()) verify::write_verdicts_html(verdicts, o.alpha, o.command_line, o.html_dir);
-  bool all_pass = true;
-  for (const verify::Verdict& v : verdicts) all_pass = all_pass && v.pass;
-  std::puts(all_pass ? "verdict: PASS" : "verdict: FAIL");
-  return all_pass ? kExitPass : kExitFail;
+  const verify::RunOutcome outcome = verify::run_outcome(verdicts);
+  std::printf("verdict: %s\n", verify::run_outcome_word(outcome));
+  switch (outcome) {
+    case verify::RunOutcome::kPass: return kExitPass;
+    case verify::RunOutcome::kInconclusive: return kExitInconclusive;
+    case verify::RunOutcome::kFail: return kExitFail;
+  }
+  return kExitFail;
 }
 
 }  // namespace furnace::cli

@@ -1,5 +1,6 @@
 #include "stats/pixel_tests.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -26,10 +27,61 @@ bool zero_variance_image(const std::vector<RunningMoments>& pixels) {
   return all;
 }
 
+double bernstein_exponent(double n, double deficit, double mean_variance, double bound) {
+  if (!(deficit > 0)) return 0;
+  const double denominator = 2 * std::max(0.0, mean_variance) + 2 * std::max(0.0, bound) * deficit / 3;
+  return denominator > 0 ? n * deficit * deficit / denominator : HUGE_VAL;
+}
+
+double bernstein_deficit(double n, double mean_variance, double bound, double q) {
+  // N·d² − (2bL/3)·d − 2v̄L = 0 with L = ln(1/q), its positive root.
+  const double l = -std::log(q);
+  const double linear = 2 * std::max(0.0, bound) * l / 3;
+  return (linear + std::sqrt(linear * linear + 8 * n * std::max(0.0, mean_variance) * l)) / (2 * n);
+}
+
+namespace {
+
+// Bernstein's exponent E on the scale of a two-sided test whose critical
+// value is `threshold` at level α: |statistic| > threshold exactly when
+// exp(−E) < α/2. Negative: the estimate falls short.
+double bernstein_on_scale(double exponent, double threshold, double alpha) {
+  return -threshold * std::sqrt(exponent / std::log(2 / alpha));
+}
+
+}  // namespace
+
 PixelTestResult pixel_mean_test(const RunningMoments& m, double reference, double alpha, bool zero_variance_image,
-                                double power) {
+                                double power, double exact_variance) {
   PixelTestResult r;
   const bool constant = round_off_only(m);
+  const bool known = std::isfinite(exact_variance) && exact_variance >= 0 && m.count >= 2 && std::isfinite(m.mean) &&
+                     std::isfinite(reference);
+  if (known && m.mean < reference && !(constant && exact_variance == 0)) {
+    // Below the reference, with the exact variance: Bernstein's bound.
+    MeanTestResult sample = mean_test(m.count, m.mean, constant ? 0.0 : m.sample_variance(), reference, alpha, power);
+    MeanTestResult& t = r.test;
+    t = sample;
+    const double n = double(m.count);
+    const double exponent = bernstein_exponent(n, reference - m.mean, exact_variance, reference);
+    t.zero_variance = false;
+    t.standard_error = std::sqrt(exact_variance / n);
+    t.statistic = bernstein_on_scale(exponent, t.threshold, alpha);
+    t.p_value = std::min(1.0, 2 * std::exp(-exponent));
+    t.pass = exponent < std::log(2 / alpha);
+    const double low_detectable =
+        bernstein_deficit(n, exact_variance, reference, alpha / 2) + normal_upper_quantile(1 - power) * t.standard_error;
+    t.detectable_bias = std::max(low_detectable, constant ? 0.0 : sample.detectable_bias);
+    t.detectable_relative_bias = reference != 0 ? t.detectable_bias / std::fabs(reference) : HUGE_VAL;
+    t.message.clear();
+    if (!t.pass) {
+      std::ostringstream s;
+      s << "the mean falls " << reference - m.mean << " short of the reference: Bernstein's bound with the exact "
+        << "variance puts that below probability " << std::exp(-exponent) << " < alpha/2 = " << alpha / 2 << ".";
+      t.message = s.str();
+    }
+    return r;
+  }
   if (!constant && !clt_adequate(m)) {
     r.status = PixelStatus::kSkewed;
     return r;
@@ -54,12 +106,21 @@ PixelTestResult pixel_mean_test(const RunningMoments& m, double reference, doubl
     }
   }
   if (constant && !r.test.pass && !zero_variance_image) r.status = PixelStatus::kConstantMiss;
+  if (known && exact_variance > 0) {
+    // Above the reference: the power statement covers the other side too.
+    const double n = double(m.count);
+    const double low_detectable = bernstein_deficit(n, exact_variance, reference, alpha / 2) +
+                                  normal_upper_quantile(1 - power) * std::sqrt(exact_variance / n);
+    r.test.detectable_bias = std::max(r.test.detectable_bias, low_detectable);
+    r.test.detectable_relative_bias = reference != 0 ? r.test.detectable_bias / std::fabs(reference) : HUGE_VAL;
+  }
   return r;
 }
 
 ImageMeanTestResult image_mean_test(const std::vector<double>& pixel_means,
                                     const std::vector<double>& variances_of_mean,
-                                    const std::vector<double>& references, double alpha, bool exact, double power) {
+                                    const std::vector<double>& references, double alpha, bool exact, double power,
+                                    const std::vector<double>& exact_variances, uint64_t samples_per_pixel) {
   if (pixel_means.empty() || pixel_means.size() != references.size() ||
       variances_of_mean.size() != references.size())
     throw std::invalid_argument("image_mean_test: needs equally many pixel means, variances and references, at least one.");
@@ -75,6 +136,36 @@ ImageMeanTestResult image_mean_test(const std::vector<double>& pixel_means,
   r.reference_mean = sum_reference / p;
   const double standard_error = std::sqrt(sum_variance_of_mean) / p;
   r.test = z_test(r.image_mean, r.reference_mean, exact ? 0.0 : standard_error, alpha, power);
+  if (exact || exact_variances.empty()) return r;
+  if (exact_variances.size() != references.size() || samples_per_pixel < 2)
+    throw std::invalid_argument("image_mean_test: needs one exact variance per pixel and at least 2 samples each.");
+  double sum_variance = 0, bound = 0;
+  for (size_t i = 0; i < references.size(); ++i) {
+    sum_variance += std::max(0.0, exact_variances[i]);
+    bound = std::max(bound, references[i]);
+  }
+  const double n = double(samples_per_pixel) * p;  // every sample of the image
+  const double mean_variance = sum_variance / p;
+  const double low_detectable = bernstein_deficit(n, mean_variance, bound, alpha / 2) +
+                                normal_upper_quantile(1 - power) * std::sqrt(mean_variance / n);
+  ZTestResult& z = r.test;
+  z.detectable_bias = std::max(z.detectable_bias, low_detectable);
+  z.detectable_relative_bias = r.reference_mean != 0 ? z.detectable_bias / std::fabs(r.reference_mean) : HUGE_VAL;
+  if (!(r.image_mean < r.reference_mean) || !std::isfinite(r.image_mean)) return r;
+  const double exponent = bernstein_exponent(n, r.reference_mean - r.image_mean, mean_variance, bound);
+  z.zero_variance = false;
+  z.standard_error = std::sqrt(mean_variance / n);
+  z.statistic = bernstein_on_scale(exponent, z.threshold, alpha);
+  z.p_value = std::min(1.0, 2 * std::exp(-exponent));
+  z.pass = exponent < std::log(2 / alpha);
+  z.message.clear();
+  if (!z.pass) {
+    std::ostringstream s;
+    s << "the image mean falls " << r.reference_mean - r.image_mean << " short of the reference: Bernstein's bound "
+      << "with the exact variances puts that below probability " << std::exp(-exponent) << " < alpha/2 = "
+      << alpha / 2 << ".";
+    z.message = s.str();
+  }
   return r;
 }
 

@@ -39,6 +39,21 @@ bool round_off_only(const RunningMoments& m);
 // is round-off. True for an empty image.
 bool zero_variance_image(const std::vector<RunningMoments>& pixels);
 
+// Bernstein's inequality for a mean that falls short (Bernstein 1924; e.g.
+// Boucheron, Lugosi & Massart 2013, "Concentration Inequalities", thm 2.10):
+// for N independent samples Yⱼ ≥ 0 with means μⱼ ≤ b and average variance
+// v̄ = ΣVar(Yⱼ)/N, the variables μⱼ − Yⱼ are bounded above by b, so
+//   P(Ȳ ≤ μ̄ − d) ≤ exp(−E),   E = N·d² / (2·v̄ + 2·b·d/3),
+// whatever the samples' skewness and however few they are. Every rendering
+// estimator is ≥ 0 for a correct renderer, and verify knows v̄ exactly where
+// the analytic second moment is modelled, so a deficit tested this way cannot
+// be a rare contribution that a run happened to miss (the sample variance
+// shrinks with the miss and inflates a t statistic; the exact one does not).
+// The exponent E for a deficit d > 0 (0 for d ≤ 0).
+double bernstein_exponent(double n, double deficit, double mean_variance, double bound);
+// The deficit d at which E = ln(1/q): the one-sided critical deficit at level q.
+double bernstein_deficit(double n, double mean_variance, double bound, double q);
+
 // Why a pixel was or was not mean-tested.
 enum class PixelStatus {
   kTested,
@@ -63,8 +78,21 @@ struct PixelTestResult {
 // tested; a round_off_only pixel must match exactly (zero-variance branch)
 // and, unless `zero_variance_image`, is left untested when it does not;
 // every other pixel gets Hall's statistic against Student's t quantile.
+//
+// With the estimator's exact variance σ² per sample (`exact_variance` ≥ 0;
+// negative when unknown) a pixel below its reference is tested by
+// Bernstein's bound instead, at level α/2, valid at any N and any skewness,
+// so it is never left untested as skewed: it rejects when exp(−E) < α/2
+// with N samples, v̄ = σ² and b = the reference. Its statistic is reported on
+// the t scale, −t_{1−α/2}·√(E / ln(2/α)), so that |statistic| > threshold
+// exactly when the bound rejects. A pixel above its reference keeps Hall's
+// statistic and the skewness rule: a rare large value that did occur also
+// inflates the sample variance, which holds that side's t down (the
+// studentised mean of right-skewed samples is left-skewed). The detectable
+// bias is then the larger of the two sides': Bernstein's critical deficit
+// plus z_power·σ/√N, and (t_{1−α/2} + t_power)·s/√N.
 PixelTestResult pixel_mean_test(const RunningMoments& m, double reference, double alpha, bool zero_variance_image,
-                                double power = kDefaultPower);
+                                double power = kDefaultPower, double exact_variance = -1);
 
 // The image-mean test: the mean over P pixels of the pixel estimates against
 // the mean of the references, a z test with standard error √(Σ vᵢ)/P from the
@@ -76,11 +104,17 @@ struct ImageMeanTestResult {
   double reference_mean = 0;
   ZTestResult test;
 };
-// Sizes must match and be nonzero.
+// Sizes must match and be nonzero. With `exact_variances` (each pixel's
+// exact variance per sample, every pixel of N = `samples_per_pixel`
+// samples) an image mean below its reference is tested by Bernstein's bound
+// over all P·N samples (v̄ the mean of the exact variances, b the largest
+// reference), reported on the z scale as the pixels' is on the t scale; an
+// image mean above it keeps the z test on the sample variances.
 ImageMeanTestResult image_mean_test(const std::vector<double>& pixel_means,
                                     const std::vector<double>& variances_of_mean,
                                     const std::vector<double>& references, double alpha, bool exact,
-                                    double power = kDefaultPower);
+                                    double power = kDefaultPower, const std::vector<double>& exact_variances = {},
+                                    uint64_t samples_per_pixel = 0);
 
 // The aggregate variance test: Σ s²ᵢ against the predicted Σ σ²ᵢ, a z test
 // with standard error √(Σ Var s²ᵢ), each term from a pixel's variance_test.

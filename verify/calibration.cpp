@@ -82,7 +82,8 @@ std::string low_spp_warning(const std::vector<Case>& cases) {
   }
   if (below.empty()) return "";
   return fmt::format("{} spp is below the smallest spp at which the suite's false-alarm rate was measured to stay "
-                     "within alpha for {}; correct cases may fail more often than alpha says.",
+                     "within alpha for {}; their cases without a modelled variance report a rejection as "
+                     "INCONCLUSIVE, not FAIL.",
                      smallest_spp, fmt::join(below, ", "));
 }
 

@@ -73,6 +73,16 @@ struct Verdict {
   // The mean tests alone: every pixel test, the image-mean test, no
   // non-finite sample.
   bool mean_pass = false;
+  // Whether the mean tests used the exact variance per sample (the strategy's
+  // second moment is modelled on this scene): a pixel or image mean below its
+  // reference is then tested by Bernstein's bound, valid at any spp.
+  bool exact_variance = false;
+  // The spp from which a rejection by this case's mean tests is calibrated;
+  // 0 when it is at this spp. Set for a case without the exact variance
+  // below its strategy's min_calibrated_spp: its tests rest on the sample
+  // variance, which a rare contribution missed by the run shrinks, so a
+  // rejection there makes the case INCONCLUSIVE, not FAIL.
+  int calibrated_from_spp = 0;
 };
 
 // What a verdict says, keeping the two kinds of failure apart: a failed mean
@@ -80,11 +90,24 @@ struct Verdict {
 // mean tests means it converges to the right answer but is not the estimator
 // its name claims (its variance is another estimator's: a power heuristic
 // with another exponent, a different sampling density).
-enum class VerdictKind { kPass, kBiased, kVarianceMismatch };
+// A mean-test rejection that the spp cannot support (Verdict::
+// calibrated_from_spp) is neither: the case is inconclusive, and says the
+// spp that would judge it.
+enum class VerdictKind { kPass, kBiased, kVarianceMismatch, kInconclusive };
 VerdictKind verdict_kind(const Verdict& v);
-// One line: "pass", "biased: …" or "unbiased, but variance differs from its
-// model (not the estimator it claims to be)".
+// One line: "pass", "biased: …", "unbiased, but variance differs from its
+// model (not the estimator it claims to be)" or "inconclusive: …".
 std::string verdict_explanation(VerdictKind kind);
+// verdict_explanation, with the spp an inconclusive case needs.
+std::string verdict_explanation(const Verdict& v);
+
+// A run's outcome: FAIL when any case is biased or fails its variance test,
+// else INCONCLUSIVE when any case is, else PASS (the CLI maps these to exit
+// codes 1, 3 and 0).
+enum class RunOutcome { kPass, kFail, kInconclusive };
+RunOutcome run_outcome(const std::vector<Verdict>& verdicts);
+// "PASS", "FAIL" or "INCONCLUSIVE".
+const char* run_outcome_word(RunOutcome outcome);
 
 // Runs one case. `per_case_alpha` is the family-wise level of this case's
 // P + 1 mean tests (P pixel tests and the image-mean test) and, where the

@@ -15,6 +15,7 @@ const char* verdict_label(VerdictKind kind) {
     case VerdictKind::kPass: return "pass";
     case VerdictKind::kBiased: return "FAIL biased";
     case VerdictKind::kVarianceMismatch: return "FAIL variance";
+    case VerdictKind::kInconclusive: return "INCONCLUSIVE";
   }
   return "";
 }
@@ -78,8 +79,8 @@ std::string format_table(const std::vector<Verdict>& verdicts, double family_alp
     if (v.nonfinite_samples > 0)
       out += fmt::format("    non-finite samples: {} (NaN or Inf, dropped from the image): the case fails\n",
                          v.nonfinite_samples);
-    if (kind != VerdictKind::kPass) out += fmt::format("    {}\n", verdict_explanation(kind));
-    if (kind == VerdictKind::kBiased)
+    if (kind != VerdictKind::kPass) out += fmt::format("    {}\n", verdict_explanation(v));
+    if (kind == VerdictKind::kBiased || kind == VerdictKind::kInconclusive)
       out += fmt::format("    worst pixel ({}, {}): mean {:.6g}, reference {:.6g}, sample variance {:.3g}, |t| {:.3g}\n",
                          v.worst_px, v.worst_py, v.worst_pixel_mean, v.worst_pixel_reference,
                          v.worst_pixel_sample_variance, v.worst_pixel_t);

@@ -76,6 +76,25 @@ TEST(Cli, PointLightSceneSkipsBlindStrategiesAndPassesUnderPowerSelection) {
   EXPECT_EQ(all.output.find("uniform_hemisphere"), std::string::npos) << all.output;
 }
 
+// verify's exit-code contract at low spp: a rejection it cannot support
+// there (path_mis has no variance model; a quarter of its calibrated spp) is
+// INCONCLUSIVE, exit 3, naming the spp; the same defect under light_area
+// (exact variance) is FAIL, exit 1.
+TEST(Cli, VerifyIsInconclusiveWhereItCannotJudgeAndFailsWhereItCan) {
+  const std::string scene = std::string(FURNACE_SCENE_DIR) + "/disk_occluder.json";
+  const int calibrated = furnace::verify::min_calibrated_spp(furnace::Strategy::kPathMis);
+  const std::string spp = std::to_string(calibrated / 4);
+  const Result low = run_cli("verify --scene " + scene + " --strategy path_mis --defect skip_shadow_ray --spp " + spp);
+  EXPECT_EQ(low.exit_code, 3) << low.output;
+  EXPECT_NE(low.output.find("verdict: INCONCLUSIVE"), std::string::npos) << low.output;
+  EXPECT_NE(low.output.find("rerun at " + std::to_string(calibrated) + " spp or more"), std::string::npos)
+      << low.output;
+  const Result exact =
+      run_cli("verify --scene " + scene + " --strategy light_area --defect skip_shadow_ray --spp " + spp);
+  EXPECT_EQ(exact.exit_code, 1) << exact.output;
+  EXPECT_NE(exact.output.find("verdict: FAIL"), std::string::npos) << exact.output;
+}
+
 TEST(Cli, MissingSceneFileIsNamed) {
   const Result r = run_cli("verify --scene /no/such/scene.json");
   EXPECT_NE(r.exit_code, 0);

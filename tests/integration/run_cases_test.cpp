@@ -5,6 +5,7 @@
 // render's wall time; the cache must keep apart what its keys separate.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <string>
@@ -121,6 +122,56 @@ TEST(AnalyticCache, KeepsApartWhatItsKeysSeparate) {
   const Scene enclosure = load_scene(box.scene_path);
   EXPECT_NE(cache.reference(box, enclosure), cache.reference(box_d4, enclosure));
   EXPECT_EQ(cache.reference(box_d4, enclosure), reference_for(enclosure, box_d4.options));
+}
+
+// Below a strategy's calibrated spp a rejection in a case without the exact
+// variance is INCONCLUSIVE, naming the spp that would judge it; the same
+// rejection at that spp is FAIL. A skipped shadow ray (a real bias, found at
+// any spp) under path_mis (no variance model) makes the rejection certain.
+TEST(Verdicts, UncalibratedRejectionIsInconclusiveAndNamesTheSpp) {
+  Case low = make_case("disk_occluder.json", Strategy::kPathMis);
+  low.options.defect = Defect::kSkipShadowRay;
+  low.options.spp = min_calibrated_spp(Strategy::kPathMis) / 4;
+  const Verdict v = run_case(low, kCaseAlpha);
+  EXPECT_FALSE(v.exact_variance);
+  EXPECT_FALSE(v.mean_pass);
+  EXPECT_EQ(v.calibrated_from_spp, min_calibrated_spp(Strategy::kPathMis));
+  EXPECT_EQ(verdict_kind(v), VerdictKind::kInconclusive);
+  EXPECT_NE(verdict_explanation(v).find(fmt::format("rerun at {} spp or more", v.calibrated_from_spp)),
+            std::string::npos)
+      << verdict_explanation(v);
+  EXPECT_EQ(run_outcome({v}), RunOutcome::kInconclusive);
+  // Negative control: at the calibrated spp the same defect fails.
+  Case calibrated = low;
+  calibrated.options.spp = min_calibrated_spp(Strategy::kPathMis);
+  const Verdict at = run_case(calibrated, kCaseAlpha);
+  EXPECT_EQ(at.calibrated_from_spp, 0);
+  EXPECT_EQ(verdict_kind(at), VerdictKind::kBiased);
+  EXPECT_EQ(run_outcome({v, at}), RunOutcome::kFail);
+}
+
+// Where the variance is modelled the tests hold at any spp: the same defect
+// under light_area (exact second moment) fails at 16 spp, far below the
+// strategy's calibrated spp, and a non-finite sample fails any case.
+TEST(Verdicts, ExactVarianceAndNonFiniteSamplesFailAtAnySpp) {
+  Case exact = make_case("disk_occluder.json", Strategy::kLightArea);
+  exact.options.defect = Defect::kSkipShadowRay;
+  exact.options.spp = 16;
+  const Verdict v = run_case(exact, kCaseAlpha);
+  EXPECT_TRUE(v.exact_variance);
+  EXPECT_EQ(v.calibrated_from_spp, 0);
+  EXPECT_EQ(verdict_kind(v), VerdictKind::kBiased);
+  Case nan = make_case("disk_occluder.json", Strategy::kPathMis);
+  nan.options.defect = Defect::kNanSample;
+  nan.options.spp = 16;
+  const Verdict n = run_case(nan, kCaseAlpha);
+  EXPECT_GT(n.calibrated_from_spp, 0);
+  EXPECT_GT(n.nonfinite_samples, 0u);
+  EXPECT_EQ(verdict_kind(n), VerdictKind::kBiased);
+  // A correct case passes at the same low spp.
+  Case correct = exact;
+  correct.options.defect = Defect::kNone;
+  EXPECT_EQ(verdict_kind(run_case(correct, kCaseAlpha)), VerdictKind::kPass);
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include <boost/math/distributions/binomial.hpp>
 #include <boost/math/distributions/students_t.hpp>
 
 #include "renderer/rng.h"
@@ -181,6 +182,146 @@ TEST(PixelMeanTest, ConstantPixelMustMatchExactly) {
   EXPECT_EQ(pixel_mean_test(off, reference, kAlpha, false).status, PixelStatus::kConstantMiss);
 }
 
+// --- the known-variance test below the reference (Bernstein) -------------------
+
+TEST(Bernstein, CriticalDeficitSolvesTheExponent) {
+  for (double n : {2.0, 256.0, 4096.0, 1e6})
+    for (double variance : {0.0, 1e-6, 0.3, 50.0})
+      for (double bound : {0.0, 0.2, 3.0})
+        for (double q : {0.25, 1e-3, 1e-9}) {
+          if (variance == 0 && bound == 0) continue;  // no deficit is possible
+          const double d = bernstein_deficit(n, variance, bound, q);
+          EXPECT_NEAR(bernstein_exponent(n, d, variance, bound), -std::log(q), 1e-9 * -std::log(q))
+              << n << " " << variance << " " << bound << " " << q;
+        }
+  EXPECT_EQ(bernstein_exponent(100, 0, 1, 1), 0);
+  EXPECT_EQ(bernstein_exponent(100, -0.5, 1, 1), 0);
+}
+
+// A pixel whose estimator is a faint background plus a rare large
+// contribution: with probability p the sample is `spike`, else uniform on
+// [0, 2·base). The point_and_area light_area@power pixel of issue 41 is of
+// this kind (a rarely selected light of large weight).
+struct RareEvent {
+  double base, p, spike;
+  double sample(double u1, double u2) const { return u1 < p ? spike : 2 * base * u2; }
+  double mean() const { return p * spike + (1 - p) * base; }
+  double second_moment() const { return p * spike * spike + (1 - p) * 4 * base * base / 3; }
+  double variance() const { return second_moment() - mean() * mean(); }
+};
+
+Moments rare_pixel(const RareEvent& e, uint64_t stream, uint64_t n) {
+  Rng rng(kSeed, stream, 0);
+  Moments m;
+  for (uint64_t i = 0; i < n; ++i) {
+    const double u1 = rng.next_double();
+    m.add(e.sample(u1, rng.next_double()));
+  }
+  return m;
+}
+
+// At 256 samples with p = 2e-3 (0.5 expected hits) most runs miss every
+// spike: the mean sits low and so does the sample variance, and Hall's t
+// rejects the correct reference; with the exact variance the same pixel
+// passes. The first stream whose run missed every spike is taken.
+TEST(PixelMeanTest, KnownVarianceDoesNotFailAMissedRareEvent) {
+  const RareEvent e{0.2, 2e-3, 20};
+  const uint64_t n = 256;
+  Moments missed;
+  for (uint64_t stream = 1000;; ++stream) {
+    missed = rare_pixel(e, stream, n);
+    if (missed.mean < 2 * e.base) break;  // no spike in this run
+  }
+  const PixelTestResult sample_only = pixel_mean_test(missed, e.mean(), kAlpha, false);
+  ASSERT_EQ(sample_only.status, PixelStatus::kTested);
+  EXPECT_FALSE(sample_only.test.pass) << "the sample-variance test no longer fails a missed rare event: "
+                                      << sample_only.test.statistic;
+  const PixelTestResult known = pixel_mean_test(missed, e.mean(), kAlpha, false, kDefaultPower, e.variance());
+  EXPECT_EQ(known.status, PixelStatus::kTested);
+  EXPECT_TRUE(known.test.pass) << known.test.message;
+  EXPECT_LT(known.test.statistic, 0);
+  EXPECT_DOUBLE_EQ(known.test.standard_error, std::sqrt(e.variance() / double(n)));
+  std::printf("missed rare event at N = %llu: Hall's t %.2f (fails), known-variance statistic %.2f (critical %.2f)\n",
+              static_cast<unsigned long long>(n), sample_only.test.statistic, known.test.statistic,
+              known.test.threshold);
+}
+
+// The false-alarm rate of the known-variance test over 4000 runs of the
+// rare-event pixel at N = 64 … 1024 (0.1 to 2 expected spikes), at α = 0.05:
+// at most α (Bernstein's bound is exact, not asymptotic, below the
+// reference, and Hall's t is conservative above it for right-skewed
+// samples), checked by a one-sided binomial test at 1e-3. The sample-variance
+// test on the same runs exceeds α several times over (the negative control).
+TEST(PixelMeanTest, KnownVarianceHoldsItsLevelAtAnySpp) {
+  const RareEvent e{0.2, 2e-3, 20};
+  const double alpha = 0.05;
+  const int runs = 4000;
+  for (uint64_t n : {64, 256, 1024}) {
+    int known_rejections = 0, sample_rejections = 0;
+    for (int run = 0; run < runs; ++run) {
+      const Moments m = rare_pixel(e, 10000 + uint64_t(run), n);
+      const PixelTestResult known = pixel_mean_test(m, e.mean(), alpha, false, kDefaultPower, e.variance());
+      known_rejections += known.tested() && !known.test.pass;
+      const PixelTestResult sample = pixel_mean_test(m, e.mean(), alpha, false);
+      sample_rejections += sample.tested() && !sample.test.pass;
+    }
+    const boost::math::binomial_distribution<double> null(runs, alpha);
+    // P(X ≥ k) under the level α: 1 for k = 0.
+    const double p_known =
+        known_rejections == 0 ? 1.0 : boost::math::cdf(boost::math::complement(null, known_rejections - 1));
+    std::printf("N = %llu: known variance rejects %d/%d (p %.3g), sample variance %d/%d, alpha %.2f\n",
+                static_cast<unsigned long long>(n), known_rejections, runs, p_known, sample_rejections, runs, alpha);
+    EXPECT_GE(p_known, 1e-3) << "known-variance test above its level at N = " << n;
+    EXPECT_GT(sample_rejections, 2 * alpha * runs) << "negative control: the sample-variance test at N = " << n;
+  }
+}
+
+// Power: a pixel whose reference is 1.5 reported detectable biases above
+// its mean (the pixel reads low) fails, for a smooth estimator and for the
+// rare-event one, and a pixel reading high keeps Hall's test.
+TEST(PixelMeanTest, KnownVarianceDetectsTheBiasItReports) {
+  const Moments smooth = draw(kSeed, 30, kSpp, exponential);
+  const PixelTestResult ok = pixel_mean_test(smooth, 1.0, kAlpha, false, kDefaultPower, 1.0);
+  EXPECT_TRUE(ok.test.pass) << ok.test.message;
+  const double low = 1.0 + kControlShift * ok.test.detectable_bias;  // the pixel reads low against it
+  const PixelTestResult bad = pixel_mean_test(smooth, low, kAlpha, false, kDefaultPower, 1.0);
+  EXPECT_FALSE(bad.test.pass);
+  EXPECT_LT(bad.test.statistic, -bad.test.threshold);
+  EXPECT_NE(bad.test.message.find("Bernstein"), std::string::npos) << bad.test.message;
+  const double high = 1.0 - kControlShift * ok.test.detectable_bias;  // reads high: Hall's t
+  const PixelTestResult above = pixel_mean_test(smooth, high, kAlpha, false, kDefaultPower, 1.0);
+  EXPECT_FALSE(above.test.pass);
+  EXPECT_EQ(above.test.statistic, hall_statistic(smooth, high));
+  // The detectable bias with the exact variance is at most 1.3 times the
+  // sample-variance test's here (Bernstein's price for holding at any spp).
+  const PixelTestResult sample_only = pixel_mean_test(smooth, 1.0, kAlpha, false);
+  EXPECT_LE(ok.test.detectable_bias, 1.3 * sample_only.test.detectable_bias);
+  EXPECT_GE(ok.test.detectable_bias, sample_only.test.detectable_bias);
+
+  const RareEvent e{0.2, 2e-3, 20};
+  const Moments rare = rare_pixel(e, 31, kSpp);
+  const PixelTestResult rare_ok = pixel_mean_test(rare, e.mean(), kAlpha, false, kDefaultPower, e.variance());
+  EXPECT_TRUE(rare_ok.test.pass) << rare_ok.test.message;
+  const double rare_low = e.mean() + kControlShift * rare_ok.test.detectable_bias;
+  EXPECT_FALSE(pixel_mean_test(rare, rare_low, kAlpha, false, kDefaultPower, e.variance()).test.pass);
+}
+
+// A constant pixel below its reference (every run of a rare positive
+// contribution missed it) is tested by the bound when the variance is known,
+// not left untested.
+TEST(PixelMeanTest, KnownVarianceTestsAConstantPixelBelowItsReference) {
+  const RareEvent e{0, 1e-3, 100};  // 0 or a spike: mean 0.1, variance ≈ 10
+  const RunningMoments zeros = constant_pixel(0, 256);
+  EXPECT_EQ(pixel_mean_test(zeros, e.mean(), kAlpha, false).status, PixelStatus::kConstantMiss);
+  const PixelTestResult known = pixel_mean_test(zeros, e.mean(), kAlpha, false, kDefaultPower, e.variance());
+  EXPECT_EQ(known.status, PixelStatus::kTested);
+  EXPECT_TRUE(known.test.pass) << known.test.message;  // 0.26 expected spikes: missing them is likely
+  // 40 000 samples (40 expected spikes) that all read 0: rejected.
+  const PixelTestResult never = pixel_mean_test(constant_pixel(0, 40000), e.mean(), kAlpha, false, kDefaultPower,
+                                                e.variance());
+  EXPECT_FALSE(never.test.pass);
+}
+
 // --- image-mean test -----------------------------------------------------------
 
 // 64 "pixels" of Exp(scale) samples, scale from 0.5 to 1.5.
@@ -229,6 +370,30 @@ TEST(ImageMeanTest, ExactImageAllowsOnlyRoundOff) {
   EXPECT_FALSE(image_mean_test(means, noise, references, kAlpha, true).test.pass);
   // Not exact: the same offset is far inside the noise.
   EXPECT_TRUE(image_mean_test(means, noise, references, kAlpha, false).test.pass);
+}
+
+// With exact variances an image mean below its reference is tested by
+// Bernstein's bound over all samples; a shifted reference fails, and the
+// reported detectable bias is at least the z test's.
+TEST(ImageMeanTest, KnownVariancesTestTheImageMeanBelowItsReference) {
+  const Image image = exponential_image(200);
+  std::vector<double> exact_variances;
+  for (double r : image.references) exact_variances.push_back(r * r);  // Exp(scale): variance scale²
+  const ImageMeanTestResult sample_only =
+      image_mean_test(image.means, image.variances_of_mean, image.references, kAlpha, false);
+  const ImageMeanTestResult ok = image_mean_test(image.means, image.variances_of_mean, image.references, kAlpha,
+                                                 false, kDefaultPower, exact_variances, 1024);
+  EXPECT_TRUE(ok.test.pass) << ok.test.message;
+  EXPECT_GE(ok.test.detectable_bias, sample_only.test.detectable_bias);
+  std::vector<double> shifted = image.references;
+  for (double& r : shifted) r *= 1 + kControlShift * ok.test.detectable_relative_bias;
+  const ImageMeanTestResult bad = image_mean_test(image.means, image.variances_of_mean, shifted, kAlpha, false,
+                                                  kDefaultPower, exact_variances, 1024);
+  EXPECT_FALSE(bad.test.pass);
+  EXPECT_NE(bad.test.message.find("Bernstein"), std::string::npos) << bad.test.message;
+  EXPECT_THROW(image_mean_test(image.means, image.variances_of_mean, image.references, kAlpha, false, kDefaultPower,
+                               {1.0}, 1024),
+               std::invalid_argument);
 }
 
 TEST(ImageMeanTest, MismatchedSizesThrow) {
