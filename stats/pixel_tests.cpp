@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <boost/math/distributions/normal.hpp>
 #include <boost/math/distributions/students_t.hpp>
 
 namespace furnace::stats {
@@ -51,63 +52,115 @@ double bernstein_on_scale(double exponent, double threshold, double alpha) {
 
 }  // namespace
 
+namespace {
+
+double normal_two_sided_p(double z) {
+  return 2 * boost::math::cdf(boost::math::complement(boost::math::normal_distribution<double>(), std::fabs(z)));
+}
+
+// Below the reference, with the exact variance σ²: Bernstein's bound.
+MeanTestResult bernstein_below(const RunningMoments& m, double reference, double alpha, double power, bool constant,
+                               double exact_variance) {
+  const MeanTestResult sample =
+      mean_test(m.count, m.mean, constant ? 0.0 : m.sample_variance(), reference, alpha, power);
+  MeanTestResult t = sample;
+  const double n = double(m.count);
+  const double exponent = bernstein_exponent(n, reference - m.mean, exact_variance, reference);
+  t.zero_variance = false;
+  t.standard_error = std::sqrt(exact_variance / n);
+  t.statistic = bernstein_on_scale(exponent, t.threshold, alpha);
+  t.p_value = std::min(1.0, 2 * std::exp(-exponent));
+  t.pass = exponent < std::log(2 / alpha);
+  t.message.clear();
+  if (!t.pass) {
+    std::ostringstream s;
+    s << "the mean falls " << reference - m.mean << " short of the reference: Bernstein's bound with the exact "
+      << "variance puts that below probability " << std::exp(-exponent) << " < alpha/2 = " << alpha / 2 << ".";
+    t.message = s.str();
+  }
+  return t;
+}
+
+// Hall's statistic against Student's t quantile (the sample variance alone).
+MeanTestResult hall_test(const RunningMoments& m, double reference, double alpha, double power) {
+  MeanTestResult t = mean_test(m.count, m.mean, m.sample_variance(), reference, alpha, power);
+  t.statistic = hall_statistic(m, reference);
+  t.pass = std::fabs(t.statistic) <= t.threshold;
+  // mean_test leaves dof = 0 when it refused the input (N < 2, non-finite values).
+  t.p_value = t.dof > 0 && std::isfinite(t.statistic)
+                  ? 2 * boost::math::cdf(boost::math::complement(boost::math::students_t_distribution<double>(t.dof),
+                                                                 std::fabs(t.statistic)))
+                  : 0.0;
+  t.message.clear();
+  if (!t.pass) {
+    std::ostringstream s;
+    s << "Hall's |t| = " << std::fabs(t.statistic) << " exceeds t_{1-alpha/2} = " << t.threshold << " (alpha "
+      << alpha << ", p " << t.p_value << ").";
+    t.message = s.str();
+  }
+  return t;
+}
+
+// Above the reference, with the exact variance σ²: rejected only when the z
+// with σ rejects too (and, for a pixel that is not constant, Hall's t). A
+// rare contribution below the mean (a blocker) that the run missed shrinks
+// the sample variance and inflates t, not z (z = √(N·p) for a missed event
+// of probability p); a rare large one that occurred inflates z, not the
+// studentised t. The smaller of the two is the statistic.
+MeanTestResult above_with_exact_variance(const RunningMoments& m, double reference, double alpha, double power,
+                                         bool constant, double exact_variance) {
+  MeanTestResult t = constant ? mean_test(m.count, m.mean, 0.0, reference, alpha, power)
+                              : hall_test(m, reference, alpha, power);
+  const double standard_error = std::sqrt(exact_variance / double(m.count));
+  const double z = (m.mean - reference) / standard_error;
+  if (constant || z < t.statistic) {
+    t.statistic = z;
+    t.p_value = normal_two_sided_p(z);
+  }
+  if (constant) {
+    t.zero_variance = false;
+    t.standard_error = standard_error;
+    t.detectable_bias = (t.threshold + normal_upper_quantile(1 - power)) * standard_error;
+  }
+  t.pass = t.statistic <= t.threshold;
+  t.message.clear();
+  if (!t.pass) {
+    std::ostringstream s;
+    s << "the mean is " << m.mean - reference << " above the reference: " << (constant ? "" : "Hall's t and ")
+      << "the z with the exact variance " << (constant ? "exceeds" : "both exceed") << " t_{1-alpha/2} = "
+      << t.threshold << " (statistic " << t.statistic << ", alpha " << alpha << ").";
+    t.message = s.str();
+  }
+  return t;
+}
+
+}  // namespace
+
 PixelTestResult pixel_mean_test(const RunningMoments& m, double reference, double alpha, bool zero_variance_image,
                                 double power, double exact_variance) {
   PixelTestResult r;
   const bool constant = round_off_only(m);
-  const bool known = std::isfinite(exact_variance) && exact_variance >= 0 && m.count >= 2 && std::isfinite(m.mean) &&
+  // The exact variance is used where it is positive (a zero one leaves the
+  // constant pixel's exact-match rule below) and the input is sane.
+  const bool known = std::isfinite(exact_variance) && exact_variance > 0 && m.count >= 2 && std::isfinite(m.mean) &&
                      std::isfinite(reference);
-  if (known && m.mean < reference && !(constant && exact_variance == 0)) {
-    // Below the reference, with the exact variance: Bernstein's bound.
-    MeanTestResult sample = mean_test(m.count, m.mean, constant ? 0.0 : m.sample_variance(), reference, alpha, power);
-    MeanTestResult& t = r.test;
-    t = sample;
-    const double n = double(m.count);
-    const double exponent = bernstein_exponent(n, reference - m.mean, exact_variance, reference);
-    t.zero_variance = false;
-    t.standard_error = std::sqrt(exact_variance / n);
-    t.statistic = bernstein_on_scale(exponent, t.threshold, alpha);
-    t.p_value = std::min(1.0, 2 * std::exp(-exponent));
-    t.pass = exponent < std::log(2 / alpha);
-    const double low_detectable =
-        bernstein_deficit(n, exact_variance, reference, alpha / 2) + normal_upper_quantile(1 - power) * t.standard_error;
-    t.detectable_bias = std::max(low_detectable, constant ? 0.0 : sample.detectable_bias);
-    t.detectable_relative_bias = reference != 0 ? t.detectable_bias / std::fabs(reference) : HUGE_VAL;
-    t.message.clear();
-    if (!t.pass) {
-      std::ostringstream s;
-      s << "the mean falls " << reference - m.mean << " short of the reference: Bernstein's bound with the exact "
-        << "variance puts that below probability " << std::exp(-exponent) << " < alpha/2 = " << alpha / 2 << ".";
-      t.message = s.str();
-    }
-    return r;
-  }
-  if (!constant && !clt_adequate(m)) {
+  if (known && m.mean < reference) {
+    r.test = bernstein_below(m, reference, alpha, power, constant, exact_variance);
+  } else if (known && m.mean > reference && (constant || clt_adequate(m))) {
+    r.test = above_with_exact_variance(m, reference, alpha, power, constant, exact_variance);
+  } else if (!constant && !clt_adequate(m)) {
     r.status = PixelStatus::kSkewed;
     return r;
+  } else if (constant) {
+    r.test = mean_test(m.count, m.mean, 0.0, reference, alpha, power);
+    if (!r.test.pass && !zero_variance_image) r.status = PixelStatus::kConstantMiss;
+    return r;
+  } else {
+    r.test = hall_test(m, reference, alpha, power);
   }
-  r.test = mean_test(m.count, m.mean, constant ? 0.0 : m.sample_variance(), reference, alpha, power);
-  if (!constant) {
-    // Hall's statistic replaces the plain t, against the same t quantile.
-    MeanTestResult& t = r.test;
-    t.statistic = hall_statistic(m, reference);
-    t.pass = std::fabs(t.statistic) <= t.threshold;
-    // mean_test leaves dof = 0 when it refused the input (N < 2, non-finite values).
-    t.p_value = t.dof > 0 && std::isfinite(t.statistic)
-                    ? 2 * boost::math::cdf(boost::math::complement(boost::math::students_t_distribution<double>(t.dof),
-                                                                   std::fabs(t.statistic)))
-                    : 0.0;
-    t.message.clear();
-    if (!t.pass) {
-      std::ostringstream s;
-      s << "Hall's |t| = " << std::fabs(t.statistic) << " exceeds t_{1-alpha/2} = " << t.threshold << " (alpha "
-        << alpha << ", p " << t.p_value << ").";
-      t.message = s.str();
-    }
-  }
-  if (constant && !r.test.pass && !zero_variance_image) r.status = PixelStatus::kConstantMiss;
-  if (known && exact_variance > 0) {
-    // Above the reference: the power statement covers the other side too.
+  if (known) {
+    // The power statement covers both sides: Bernstein's below, the
+    // sample-variance (or exact-variance z) test's above.
     const double n = double(m.count);
     const double low_detectable = bernstein_deficit(n, exact_variance, reference, alpha / 2) +
                                   normal_upper_quantile(1 - power) * std::sqrt(exact_variance / n);
@@ -151,7 +204,20 @@ ImageMeanTestResult image_mean_test(const std::vector<double>& pixel_means,
   ZTestResult& z = r.test;
   z.detectable_bias = std::max(z.detectable_bias, low_detectable);
   z.detectable_relative_bias = r.reference_mean != 0 ? z.detectable_bias / std::fabs(r.reference_mean) : HUGE_VAL;
-  if (!(r.image_mean < r.reference_mean) || !std::isfinite(r.image_mean)) return r;
+  if (!std::isfinite(r.image_mean)) return r;
+  if (r.image_mean > r.reference_mean) {
+    // Above: the z with the exact variances must reject too (as a pixel's).
+    const double exact_z = (r.image_mean - r.reference_mean) / std::sqrt(mean_variance / n);
+    if (exact_z < z.statistic) {
+      z.statistic = exact_z;
+      z.p_value = normal_two_sided_p(exact_z);
+      z.pass = z.statistic <= z.threshold;
+      z.message = z.pass ? "" : "the image mean is above the reference by more than both the sample and the exact "
+                                "standard errors allow.";
+    }
+    return r;
+  }
+  if (!(r.image_mean < r.reference_mean)) return r;
   const double exponent = bernstein_exponent(n, r.reference_mean - r.image_mean, mean_variance, bound);
   z.zero_variance = false;
   z.standard_error = std::sqrt(mean_variance / n);

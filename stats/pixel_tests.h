@@ -79,18 +79,24 @@ struct PixelTestResult {
 // and, unless `zero_variance_image`, is left untested when it does not;
 // every other pixel gets Hall's statistic against Student's t quantile.
 //
-// With the estimator's exact variance σ² per sample (`exact_variance` ≥ 0;
-// negative when unknown) a pixel below its reference is tested by
-// Bernstein's bound instead, at level α/2, valid at any N and any skewness,
-// so it is never left untested as skewed: it rejects when exp(−E) < α/2
-// with N samples, v̄ = σ² and b = the reference. Its statistic is reported on
-// the t scale, −t_{1−α/2}·√(E / ln(2/α)), so that |statistic| > threshold
-// exactly when the bound rejects. A pixel above its reference keeps Hall's
-// statistic and the skewness rule: a rare large value that did occur also
-// inflates the sample variance, which holds that side's t down (the
-// studentised mean of right-skewed samples is left-skewed). The detectable
-// bias is then the larger of the two sides': Bernstein's critical deficit
-// plus z_power·σ/√N, and (t_{1−α/2} + t_power)·s/√N.
+// With the estimator's exact variance σ² > 0 per sample (`exact_variance`;
+// negative when unknown):
+//  - a pixel below its reference is tested by Bernstein's bound instead, at
+//    level α/2, valid at any N and any skewness, so it is never left
+//    untested as skewed: it rejects when exp(−E) < α/2 with N samples,
+//    v̄ = σ² and b = the reference. Its statistic is reported on the t scale,
+//    −t_{1−α/2}·√(E / ln(2/α)), so that |statistic| > threshold exactly when
+//    the bound rejects;
+//  - a pixel above its reference is rejected only when Hall's statistic and
+//    z = (ȳ − μ)/(σ/√N) both exceed the threshold (the statistic is the
+//    smaller). A rare contribution below the mean (a blocker hit with
+//    p ≪ 1/N) that the run missed shrinks the sample variance and inflates
+//    t, while z stays near √(N·p); a rare large value that did occur
+//    inflates z, while it inflates the sample variance too and holds the
+//    studentised t down. A constant pixel above its reference is tested by
+//    z alone; a pixel that fails the skewness rule is still untested there.
+// The detectable bias is then the larger of the two sides': Bernstein's
+// critical deficit plus z_power·σ/√N, and (t_{1−α/2} + t_power)·s/√N.
 PixelTestResult pixel_mean_test(const RunningMoments& m, double reference, double alpha, bool zero_variance_image,
                                 double power = kDefaultPower, double exact_variance = -1);
 
@@ -109,7 +115,8 @@ struct ImageMeanTestResult {
 // samples) an image mean below its reference is tested by Bernstein's bound
 // over all P·N samples (v̄ the mean of the exact variances, b the largest
 // reference), reported on the z scale as the pixels' is on the t scale; an
-// image mean above it keeps the z test on the sample variances.
+// image mean above it is rejected only when the z tests on the sample and on
+// the exact variances both reject.
 ImageMeanTestResult image_mean_test(const std::vector<double>& pixel_means,
                                     const std::vector<double>& variances_of_mean,
                                     const std::vector<double>& references, double alpha, bool exact,

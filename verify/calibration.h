@@ -12,13 +12,14 @@
 namespace furnace::verify {
 
 // The smallest spp at which the built-in suite's false-alarm rate has been
-// measured to stay within its stated α, per strategy: `furnace sweep
-// --strategy NAME` found no case rejecting significantly more often than its
-// per-case α there and at every larger spp measured (README "Low spp" gives
-// the counts). Below it the per-pixel tests' normal approximations (Hall's
-// statistic, Cochran's rule, the fourth-moment standard error of s²) are not
-// calibrated for that strategy's most skewed cases: verify and sweep still
-// run but print low_spp_warning().
+// measured to stay within its stated α, per strategy, for the cases whose
+// variance is not modelled: `furnace sweep` found none of them rejecting
+// significantly more often than its per-case α there and at every larger spp
+// measured (docs/statistics.md "Low spp and calibration" gives the counts).
+// Below it the sample-variance tests (Hall's statistic, Cochran's rule) are
+// not calibrated for that strategy's most skewed cases: verify reports their
+// rejections as INCONCLUSIVE and prints low_spp_warning(). Cases with a
+// modelled variance are tested with it, valid at any spp.
 int min_calibrated_spp(Strategy strategy);
 // The smallest and largest min_calibrated_spp over all strategies (--help).
 int lowest_min_calibrated_spp();

@@ -19,15 +19,20 @@
 
 namespace furnace::verify {
 
-// Each pixel's mean is tested with Hall's skewness-corrected t statistic
-// against Student's t quantile (stats::pixel_mean_test, stats/pixel_tests.h).
-// A pixel's test is only valid when its sample mean is close to normal:
-// pixels that fail Cochran's rule (N ≥ 25·G1², stats::clt_adequate) are not
-// tested but counted and reported as `px skip`; they still enter the
-// image-mean test, whose mean over all pixels is close to normal. A pixel
-// whose samples are all equal (s = 0) must match its reference exactly; if it
-// does not, it is skipped the same way unless every pixel of the case is
-// constant (a zero-variance estimator, which must be exact everywhere).
+// Each pixel's mean is tested by stats::pixel_mean_test (stats/pixel_tests.h):
+// where the strategy's second moment is modelled on the scene, with the exact
+// variance (Bernstein's bound below the reference, valid at any spp; above
+// it, Hall's t and the exact-variance z must both reject); elsewhere with
+// Hall's skewness-corrected t against Student's t quantile. A t test is only
+// valid when the sample mean is close to normal: pixels that fail Cochran's
+// rule (N ≥ 25·G1², stats::clt_adequate) are not t-tested but counted and
+// reported as `px skip`; they still enter the image-mean test. A pixel whose
+// samples are all equal (s = 0) must match its reference exactly (or, with a
+// modelled variance, pass the exact-variance tests); if it does not, it is
+// skipped the same way unless every pixel of the case is constant (a
+// zero-variance estimator, which must be exact everywhere). A rejection in a
+// case without a modelled variance below its strategy's calibrated spp makes
+// the case INCONCLUSIVE (Verdict::calibrated_from_spp).
 
 struct Verdict {
   std::string scene;
