@@ -543,6 +543,27 @@ TEST_F(CyclesPeerGgxControl, RoughnessAlphaForSqrtAlphaFails) {
             1);
 }
 
+// Beckmann left as the distribution (the default of Blender 3.x's Glossy and
+// Glass nodes) where the scene asks for GGX: the strips' albedo under the sky
+// differs. Rough glass itself is refused by the export, so this default is
+// checked on the Glossy node.
+TEST_F(CyclesPeerGgxControl, BeckmannForGgxFails) {
+  const fs::path file = scene_file("ggx_sky_strips");
+  CyclesOptions options;
+  options.spp = kSpp;
+  EXPECT_EQ(render_and_check("Beckmann for GGX (ggx_sky_strips)", file, load_scene(file), options,
+                             [](std::string script) {
+                               // Every strip's distribution, not the first only.
+                               int strips = 0;
+                               for (size_t at = script.find("('GGX', "); at != std::string::npos;
+                                    at = script.find("('GGX', ", at), ++strips)
+                                 script.replace(at, 8, "('BECKMANN', ");
+                               if (strips != 5) throw std::runtime_error("expected the 5 GGX strips in the script");
+                               return script;
+                             }),
+            1);
+}
+
 // Why height-correlated strips at oblique view are refused: Cycles'
 // separable G2 rendered where the scene asks for the height-correlated one
 // is seen.
