@@ -50,6 +50,30 @@ double bernstein_on_scale(double exponent, double threshold, double alpha) {
   return -threshold * std::sqrt(exponent / std::log(2 / alpha));
 }
 
+// Bernstein's test of a deficit, on the scale of a two-sided test whose
+// critical value is `threshold` at level α; `what` names the estimate in the
+// message ("the mean", "the image mean").
+struct BernsteinTest {
+  double statistic = 0, p_value = 1;
+  bool pass = true;
+  std::string message;
+};
+BernsteinTest bernstein_test(double n, double deficit, double mean_variance, double bound, double threshold,
+                             double alpha, const char* what) {
+  const double exponent = bernstein_exponent(n, deficit, mean_variance, bound);
+  BernsteinTest b;
+  b.statistic = bernstein_on_scale(exponent, threshold, alpha);
+  b.p_value = std::min(1.0, 2 * std::exp(-exponent));
+  b.pass = exponent < std::log(2 / alpha);
+  if (!b.pass) {
+    std::ostringstream s;
+    s << what << " falls " << deficit << " short of the reference: Bernstein's bound with the exact variance puts "
+      << "that below probability " << std::exp(-exponent) << " < alpha/2 = " << alpha / 2 << ".";
+    b.message = s.str();
+  }
+  return b;
+}
+
 }  // namespace
 
 namespace {
@@ -65,19 +89,14 @@ MeanTestResult bernstein_below(const RunningMoments& m, double reference, double
       mean_test(m.count, m.mean, constant ? 0.0 : m.sample_variance(), reference, alpha, power);
   MeanTestResult t = sample;
   const double n = double(m.count);
-  const double exponent = bernstein_exponent(n, reference - m.mean, exact_variance, reference);
+  const BernsteinTest b =
+      bernstein_test(n, reference - m.mean, exact_variance, reference, t.threshold, alpha, "the mean");
   t.zero_variance = false;
   t.standard_error = std::sqrt(exact_variance / n);
-  t.statistic = bernstein_on_scale(exponent, t.threshold, alpha);
-  t.p_value = std::min(1.0, 2 * std::exp(-exponent));
-  t.pass = exponent < std::log(2 / alpha);
-  t.message.clear();
-  if (!t.pass) {
-    std::ostringstream s;
-    s << "the mean falls " << reference - m.mean << " short of the reference: Bernstein's bound with the exact "
-      << "variance puts that below probability " << std::exp(-exponent) << " < alpha/2 = " << alpha / 2 << ".";
-    t.message = s.str();
-  }
+  t.statistic = b.statistic;
+  t.p_value = b.p_value;
+  t.pass = b.pass;
+  t.message = b.message;
   return t;
 }
 
@@ -218,20 +237,14 @@ ImageMeanTestResult image_mean_test(const std::vector<double>& pixel_means,
     return r;
   }
   if (!(r.image_mean < r.reference_mean)) return r;
-  const double exponent = bernstein_exponent(n, r.reference_mean - r.image_mean, mean_variance, bound);
+  const BernsteinTest b = bernstein_test(n, r.reference_mean - r.image_mean, mean_variance, bound, z.threshold, alpha,
+                                         "the image mean");
   z.zero_variance = false;
   z.standard_error = std::sqrt(mean_variance / n);
-  z.statistic = bernstein_on_scale(exponent, z.threshold, alpha);
-  z.p_value = std::min(1.0, 2 * std::exp(-exponent));
-  z.pass = exponent < std::log(2 / alpha);
-  z.message.clear();
-  if (!z.pass) {
-    std::ostringstream s;
-    s << "the image mean falls " << r.reference_mean - r.image_mean << " short of the reference: Bernstein's bound "
-      << "with the exact variances puts that below probability " << std::exp(-exponent) << " < alpha/2 = "
-      << alpha / 2 << ".";
-    z.message = s.str();
-  }
+  z.statistic = b.statistic;
+  z.p_value = b.p_value;
+  z.pass = b.pass;
+  z.message = b.message;
   return r;
 }
 
