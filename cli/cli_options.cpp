@@ -20,7 +20,7 @@ namespace furnace::cli {
 const char* const kExitContract =
     "Exit codes (every subcommand): 0 pass, 1 fail, 2 bad input (any argument error, scene files, images, output "
     "paths; one line on stderr), 3 inconclusive (check, compare: no test rejects but the test lacks the stated "
-    "power).";
+    "power; verify: a case rejected where its spp cannot support the rejection, and none failed).";
 
 namespace {
 

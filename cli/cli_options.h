@@ -4,7 +4,7 @@
 // Exit codes, every subcommand (kExitContract is the text --help prints):
 //   0 pass, 1 fail, 2 bad input (every argument-parsing error included:
 //   unknown option or subcommand, missing or extra value, wrong type, out of
-//   range, missing requirement), 3 inconclusive (check only).
+//   range, missing requirement), 3 inconclusive (check, compare, verify).
 // An argument error is one line on stderr, "furnace: error: --option: why",
 // naming the option and the value.
 //
