@@ -92,38 +92,40 @@ nlohmann::ordered_json view_query_json(const Scene& scene, const AnalyticQuery& 
   return j;
 }
 
-// Each requested direct estimator's row (every direct strategy when none is
-// requested) in the text and the JSON: E[Y²] = second_moment(strategy), its
-// bound what the quadratures report to an ErrorLedger, and the variance
-// E[Y²] − L² with its bound (L's bound propagated, plus round-off). An
-// estimator second_moment refuses (furnace::Error) is named unsupported,
-// with the reason.
+// A value computed under an ErrorLedger, with the bound its quadratures report.
+struct BoundedValue {
+  double value = 0, bound = 0;
+};
+template <class F>
+BoundedValue with_ledger(const F& f) {
+  const analytic::ErrorLedger ledger;
+  const double value = f();
+  return {value, ledger.bound(value)};
+}
+
+// Each requested estimator's row (`defaults` when none is requested) in the
+// text and the JSON: E[Y²] and its bound from second_moment(strategy) (a
+// BoundedValue), and the variance E[Y²] − L² with its bound (both terms'
+// bounds and the subtraction's own rounding). An estimator second_moment
+// refuses (furnace::Error) is named unsupported, with the reason.
 template <class SecondMoment>
-void estimator_rows(const std::vector<Strategy>& requested, double radiance, double radiance_bound,
-                    nlohmann::ordered_json& j, std::string& text, const SecondMoment& second_moment) {
-  std::vector<Strategy> estimators = requested;
-  if (estimators.empty())
-    for (const StrategyInfo& info : kStrategyTable)
-      if (!is_path_tracer(info.strategy)) estimators.push_back(info.strategy);
-  for (const Strategy strategy : estimators) {
+void estimator_rows(const std::vector<Strategy>& requested, const std::vector<Strategy>& defaults, double radiance,
+                    double radiance_bound, nlohmann::ordered_json& j, std::string& text,
+                    const SecondMoment& second_moment) {
+  for (const Strategy strategy : requested.empty() ? defaults : requested) {
     const std::string& est = strategy_name(strategy);
     std::string moment_text, variance_text;
     try {
-      double m2 = 0, m2_bound = 0;
-      {
-        analytic::ErrorLedger ledger;
-        m2 = second_moment(strategy);
-        m2_bound = ledger.bound(m2);
-      }
-      const double variance = m2 - radiance * radiance;
-      const double variance_bound = m2_bound + 2 * std::fabs(radiance) * radiance_bound +
+      const BoundedValue m2 = second_moment(strategy);
+      const double variance = m2.value - radiance * radiance;
+      const double variance_bound = m2.bound + 2 * std::fabs(radiance) * radiance_bound +
                                     radiance_bound * radiance_bound +
-                                    std::numeric_limits<double>::epsilon() * std::fabs(m2);
-      j["estimators"][est] = {{"second_moment", m2},
-                              {"second_moment_error_bound", m2_bound},
+                                    std::numeric_limits<double>::epsilon() * std::fabs(m2.value);
+      j["estimators"][est] = {{"second_moment", m2.value},
+                              {"second_moment_error_bound", m2.bound},
                               {"variance", variance},
                               {"variance_error_bound", variance_bound}};
-      moment_text = fmt::format("{:.17g} ± {:.2g}", m2, m2_bound);
+      moment_text = fmt::format("{:.17g} ± {:.2g}", m2.value, m2.bound);
       variance_text = fmt::format("{:.17g} ± {:.2g}", variance, variance_bound);
     } catch (const Error& err) {
       j["estimators"][est] = {{"unsupported", err.what()}};
@@ -132,6 +134,14 @@ void estimator_rows(const std::vector<Strategy>& requested, double radiance, dou
     }
     text += fmt::format("  {:<20} E[Y^2] {:<34} Var {}\n", est, moment_text, variance_text);
   }
+}
+
+// Every direct strategy: the default rows of a receiver-model query.
+std::vector<Strategy> direct_strategies() {
+  std::vector<Strategy> out;
+  for (const StrategyInfo& info : kStrategyTable)
+    if (!is_path_tracer(info.strategy)) out.push_back(info.strategy);
+  return out;
 }
 
 // The glossy receiver's answer: its radiance toward the view and each direct
@@ -167,8 +177,9 @@ std::string answer_glossy_query(const Scene& original, const AnalyticQuery& q, s
       "single-sample estimators of L: second moment E[Y^2] and variance Var Y = E[Y^2] - L^2 (± error bounds)\n",
       scene.name, q.point.x, q.point.y, q.point.z, q.normal.x, q.normal.y, q.normal.z, name, bsdf_text(bsdf),
       view.direction.x, view.direction.y, view.direction.z, view.source, radiance, radiance_bound);
-  estimator_rows(q.estimators, radiance, radiance_bound, j, text, [&](Strategy strategy) {
-    return analytic::glossy_second_moment(strategy, scene, q.point, q.normal, view.direction, receiver);
+  estimator_rows(q.estimators, direct_strategies(), radiance, radiance_bound, j, text, [&](Strategy strategy) {
+    return with_ledger(
+        [&] { return analytic::glossy_second_moment(strategy, scene, q.point, q.normal, view.direction, receiver); });
   });
   return json ? j.dump(2) + "\n" : text;
 }
@@ -202,9 +213,11 @@ std::string answer_glass_light_query(const Scene& original, const AnalyticQuery&
       scene.name, q.point.x, q.point.y, q.point.z, q.normal.x, q.normal.y, q.normal.z, object.name,
       bsdf_text(bsdf_json(object.material)), view.direction.x, view.direction.y, view.direction.z, view.source,
       inside ? "inside" : "outside", transport_convention_name(q.convention), radiance, radiance_bound);
-  estimator_rows(q.estimators, radiance, radiance_bound, j, text, [&](Strategy strategy) {
-    return analytic::glass_light_second_moment(strategy, scene, q.point, view.direction, receiver, q.convention,
-                                               LightSelection::kUniform);
+  estimator_rows(q.estimators, direct_strategies(), radiance, radiance_bound, j, text, [&](Strategy strategy) {
+    return with_ledger([&] {
+      return analytic::glass_light_second_moment(strategy, scene, q.point, view.direction, receiver, q.convention,
+                                                 LightSelection::kUniform);
+    });
   });
   return json ? j.dump(2) + "\n" : text;
 }
@@ -269,26 +282,11 @@ std::string answer_dielectric_query(const Scene& original, const AnalyticQuery& 
       scene.name, q.point.x, q.point.y, q.point.z, q.normal.x, q.normal.y, q.normal.z, object.name, bsdf_text(bsdf),
       view.direction.x, view.direction.y, view.direction.z, view.source, inside ? "inside" : "outside", eta,
       transport_convention_name(q.convention), e.reflection, e.transmission, s, radiance, radiance_bound);
-  std::vector<Strategy> estimators = q.estimators;
-  if (estimators.empty()) estimators = {Strategy::kBsdf};
-  for (const Strategy strategy : estimators) {
-    const std::string& est = strategy_name(strategy);
-    if (strategy != Strategy::kBsdf) {
-      const std::string why = "the second moment of this estimator at a dielectric is not modelled";
-      j["estimators"][est] = {{"unsupported", why}};
-      text += fmt::format("  {:<20} E[Y^2] {:<34} Var {}\n", est, "unsupported", why);
-      continue;
-    }
-    const double variance = m2 - radiance * radiance;
-    const double variance_bound = m2_bound + 2 * std::fabs(radiance) * radiance_bound +
-                                  std::numeric_limits<double>::epsilon() * std::fabs(m2);
-    j["estimators"][est] = {{"second_moment", m2},
-                            {"second_moment_error_bound", m2_bound},
-                            {"variance", variance},
-                            {"variance_error_bound", variance_bound}};
-    text += fmt::format("  {:<20} E[Y^2] {:<34} Var {}\n", est, fmt::format("{:.17g} ± {:.2g}", m2, m2_bound),
-                        fmt::format("{:.17g} ± {:.2g}", variance, variance_bound));
-  }
+  estimator_rows(q.estimators, {Strategy::kBsdf}, radiance, radiance_bound, j, text, [&](Strategy strategy) {
+    if (strategy != Strategy::kBsdf)
+      throw Error("the second moment of this estimator at a dielectric is not modelled");
+    return BoundedValue{m2, m2_bound};
+  });
   return json ? j.dump(2) + "\n" : text;
 }
 
@@ -341,39 +339,15 @@ std::string answer_analytic_query(const Scene& scene, const AnalyticQuery& q, bo
       j["receiver"].get<std::string>(), e, e_bound, albedo, radiance, radiance_bound);
   // The estimators asked for; by default every strategy with its own
   // variance model (bsdf shares cosine_hemisphere's).
-  std::vector<Strategy> estimators = q.estimators;
-  if (estimators.empty())
-    for (const StrategyInfo& est_info : kStrategyTable)
-      if (est_info.variance_model == est_info.strategy) estimators.push_back(est_info.strategy);
-  for (const Strategy strategy : estimators) {
+  std::vector<Strategy> defaults;
+  for (const StrategyInfo& info : kStrategyTable)
+    if (info.variance_model == info.strategy) defaults.push_back(info.strategy);
+  estimator_rows(q.estimators, defaults, e, e_bound, j, text, [&](Strategy strategy) {
     const StrategyInfo& est = strategy_info(strategy);
-    std::string moment_text, variance_text;
-    try {
-      if (!est.variance_model)
-        throw Error(fmt::format("the estimator {} has no single-sample second-moment model in analytic/.", est.name));
-      double m2 = 0, m2_bound = 0;
-      {
-        const analytic::ErrorLedger ledger;
-        m2 = analytic::second_moment(*est.variance_model, scene, q.point, q.normal, receiver);
-        m2_bound = ledger.bound(m2);
-      }
-      const double variance = m2 - e * e;
-      // m2 − E²: the bounds of both terms, and the subtraction's own rounding.
-      const double variance_bound = m2_bound + 2 * std::fabs(e) * e_bound + e_bound * e_bound +
-                                    std::numeric_limits<double>::epsilon() * std::fabs(m2);
-      j["estimators"][est.name] = {{"second_moment", m2},
-                                   {"second_moment_error_bound", m2_bound},
-                                   {"variance", variance},
-                                   {"variance_error_bound", variance_bound}};
-      moment_text = fmt::format("{:.17g} ± {:.2g}", m2, m2_bound);
-      variance_text = fmt::format("{:.17g} ± {:.2g}", variance, variance_bound);
-    } catch (const Error& err) {
-      j["estimators"][est.name] = {{"unsupported", err.what()}};
-      moment_text = "unsupported";
-      variance_text = err.what();
-    }
-    text += fmt::format("  {:<20} E[Y^2] {:<34} Var {}\n", est.name, moment_text, variance_text);
-  }
+    if (!est.variance_model)
+      throw Error(fmt::format("the estimator {} has no single-sample second-moment model in analytic/.", est.name));
+    return with_ledger([&] { return analytic::second_moment(*est.variance_model, scene, q.point, q.normal, receiver); });
+  });
   if (json) {
     // Round-trip precision: nlohmann prints doubles with max_digits10 (17).
     return j.dump(2) + "\n";
