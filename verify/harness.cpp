@@ -35,18 +35,17 @@ Verdict evaluate_case(const Case& c, const Scene& scene, const Image& image, con
 
   // Tested under an injected defect too: a defect that keeps the mean must be
   // caught here (DEFECT(mis_power_exponent_3)).
-  std::vector<double> predicted_variance = analytic_values.predicted_variance(c, scene, reference);
-  // The exact variance per sample of every pixel, where modelled: the mean
-  // tests use it below the reference at any spp (Bernstein's bound,
-  // stats/pixel_tests.h), so a rare contribution a run missed cannot fail them.
-  const std::vector<double> exact_variance = predicted_variance;
+  // The exact variance per sample of every pixel, where modelled (empty
+  // elsewhere): the mean tests use it at any spp (Bernstein's bound below the
+  // reference, stats/pixel_tests.h), so a rare contribution a run missed
+  // cannot fail them; the variance test needs kMinVarianceTestSamples.
+  const std::vector<double> exact_variance = analytic_values.predicted_variance(c, scene, reference);
+  v.exact_variance = !exact_variance.empty();
   // A test that cannot run at this spp is skipped and named, never failed.
-  if (!predicted_variance.empty() && uint64_t(c.options.spp) < stats::kMinVarianceTestSamples) {
+  if (v.exact_variance && uint64_t(c.options.spp) < stats::kMinVarianceTestSamples)
     v.variance_skipped = fmt::format("{} samples per pixel, the variance test needs at least {}", c.options.spp,
                                      stats::kMinVarianceTestSamples);
-    predicted_variance.clear();
-  }
-  v.variance_tested = !predicted_variance.empty();
+  v.variance_tested = v.exact_variance && v.variance_skipped.empty();
   // P pixel tests + 1 image-mean test (+ 1 aggregate variance test when the
   // variance is modelled) share this case's α (Šidák).
   const size_t n_tests = reference.size() + 1 + (v.variance_tested ? 1 : 0);
@@ -57,7 +56,7 @@ Verdict evaluate_case(const Case& c, const Scene& scene, const Image& image, con
   std::vector<stats::VarianceTestResult> pixel_variance_tests;
   if (v.variance_tested)
     for (size_t i = 0; i < reference.size(); ++i)
-      pixel_variance_tests.push_back(stats::variance_test(image.pixels[i], predicted_variance[i], alpha_each));
+      pixel_variance_tests.push_back(stats::variance_test(image.pixels[i], exact_variance[i], alpha_each));
 
   std::vector<double> pixel_means, variances_of_mean, pixel_detectable;
   double sum_sq_error = 0;
@@ -113,7 +112,6 @@ Verdict evaluate_case(const Case& c, const Scene& scene, const Image& image, con
   v.variance_pass = variance_pass;
   v.mean_pass = image_test.test.pass && v.pixel_failures == 0 && v.nonfinite_samples == 0;
   v.pass = v.mean_pass && variance_pass;
-  v.exact_variance = !exact_variance.empty();
   if (!v.exact_variance && c.options.spp < min_calibrated_spp(c.options.strategy))
     v.calibrated_from_spp = min_calibrated_spp(c.options.strategy);
   return v;
