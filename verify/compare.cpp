@@ -34,7 +34,9 @@ struct Region {
 // and each pixel's variance of one render for the variance test.
 class SideChannel {
  public:
-  SideChannel(const CompareSide& side, size_t channel) : side_(side), c_(channel) {}
+  // `spp`: the spp per render the rare-event guard takes for K renders
+  // (unused for a furnace EXR, whose N channel counts its samples).
+  SideChannel(const CompareSide& side, size_t channel, double spp) : side_(side), c_(channel), spp_(spp) {}
 
   int width() const { return side_.images[0].width; }
   size_t renders() const { return side_.images.size(); }
@@ -103,6 +105,19 @@ class SideChannel {
     return {s2, 2 * s2 * s2 / double(k + 1)};
   }
 
+  // The samples behind a pixel's or a region's mean, for the rare-event
+  // guard: K × spp, or a furnace EXR's N (its mean over a region).
+  double samples(size_t i) const {
+    return side_.furnace_variance() ? side_.images[0].count[i] : double(renders()) * spp_;
+  }
+  double samples(const Region& r) const {
+    if (!side_.furnace_variance()) return double(renders()) * spp_;
+    double sum = 0;
+    for (int y = r.y0; y < r.y1; ++y)
+      for (int x = r.x0; x < r.x1; ++x) sum += samples(size_t(y) * size_t(width()) + size_t(x));
+    return sum / double(r.pixels());
+  }
+
   // True when the pixel's K values repeat (a quasi-Monte Carlo render).
   bool few_values(size_t i) const {
     if (side_.furnace_variance()) return false;
@@ -114,6 +129,7 @@ class SideChannel {
  private:
   const CompareSide& side_;
   size_t c_;
+  double spp_;
 };
 
 // λ·f at a d.o.f.: the noncentrality reaching power stats::kReportedPower
@@ -171,9 +187,58 @@ stats::WelchStatistic welch(const stats::MeanEstimate& a, const stats::MeanEstim
   return w;
 }
 
+// One test under the rare-event guard (compare.h): the plain Welch statistic,
+// the one with the lower side's variance floored, and the standard error the
+// detectable difference uses (the larger of the two directions' floored ones,
+// as a true difference may go either way).
+struct GuardedTest {
+  stats::WelchStatistic plain, guarded;
+  double power_standard_error = 0;
+};
+
+// The floor of the lower side's variance of its mean: the higher side's
+// variance per sample at its lower confidence bound, over the lower side's
+// samples.
+double variance_floor(const stats::MeanEstimate& high, double n_high, double n_low) {
+  const double b = spread_lower_bound_factor(high.dof, kSpreadConfidence);
+  return b * b * high.variance_of_mean * n_high / n_low;
+}
+
+GuardedTest guarded_welch(const stats::MeanEstimate& a, double n_a, const stats::MeanEstimate& b, double n_b) {
+  GuardedTest g;
+  g.plain = g.guarded = welch(a, b);
+  g.power_standard_error = g.plain.standard_error;
+  if (g.plain.standard_error == 0) return g;
+  // Each side as the lower one: its variance floored; the floored term
+  // carries the d.o.f. of the side it came from.
+  const auto floored = [](const stats::MeanEstimate& low, double n_low, const stats::MeanEstimate& high,
+                          double n_high) {
+    const double floor = variance_floor(high, n_high, n_low);
+    return floor > low.variance_of_mean ? stats::MeanEstimate{low.mean, floor, high.dof} : low;
+  };
+  const stats::MeanEstimate a_low = floored(a, n_a, b, n_b), b_low = floored(b, n_b, a, n_a);
+  const stats::WelchStatistic wa = welch(a_low, b), wb = welch(a, b_low);
+  g.power_standard_error = std::max(wa.standard_error, wb.standard_error);
+  g.guarded = g.plain.difference < 0 ? wa : wb;
+  return g;
+}
+
 double critical_t(double dof, double alpha) {
   if (!std::isfinite(dof)) return stats::normal_upper_quantile(alpha / 2);
   return boost::math::quantile(boost::math::complement(boost::math::students_t_distribution<double>(dof), alpha / 2));
+}
+
+// Records a held test (plain t rejects, the guarded one does not) when it is
+// the channel's worst so far by |t|.
+void note_held(ChannelComparison& cc, const std::string& what, const GuardedTest& g, double alpha) {
+  if (!cc.worst_held.empty() && std::fabs(g.plain.statistic) <= std::fabs(cc.worst_held_t)) return;
+  cc.worst_held = what;
+  cc.worst_held_t = g.plain.statistic;
+  cc.worst_held_guarded_t = g.guarded.statistic;
+  cc.worst_held_threshold = critical_t(g.guarded.dof, alpha);
+  // Both sides' samples × f scale the guarded t by √f (for a difference that stays).
+  const double ratio = cc.worst_held_threshold / std::fabs(g.guarded.statistic);
+  cc.worst_held_spp_factor = std::isfinite(ratio) ? ratio * ratio : kInf;
 }
 
 // The spp of a side's images: the one their headers state (furnace's,
@@ -188,19 +253,55 @@ double side_spp(const CompareSide& side) {
   return 0;
 }
 
+// The spp per render the rare-event guard takes for each side (0 for a
+// furnace EXR: its N channel counts the samples), and what it assumed for a
+// side whose files state none: the other side's spp, or equal spp when
+// neither side states any.
+void guard_spp(const CompareSide& a, const CompareSide& b, CompareResult& r) {
+  const auto stated = [](const CompareSide& side) { return side.furnace_variance() ? 0.0 : side_spp(side); };
+  r.guard_spp_a = stated(a);
+  r.guard_spp_b = stated(b);
+  const auto assume = [&](const CompareSide& side, double& spp, const CompareSide& other, double other_spp,
+                          const char* name, const char* other_name) {
+    if (side.furnace_variance() || spp > 0) return;
+    if (other.furnace_variance()) {
+      spp = side_spp(other);
+      r.guard_assumption = fmt::format(
+          "side {}'s files state no spp: the rare-event guard takes them at side {}'s median N, {:.6g}", name,
+          other_name, spp);
+    } else {
+      spp = other_spp;
+      r.guard_assumption = fmt::format(
+          "side {}'s files state no spp: the rare-event guard takes them at side {}'s, {:.6g}", name, other_name, spp);
+    }
+  };
+  if (!a.furnace_variance() && !b.furnace_variance() && r.guard_spp_a == 0 && r.guard_spp_b == 0) {
+    r.guard_spp_a = r.guard_spp_b = 1;
+    r.guard_assumption = "neither side's files state their spp: the rare-event guard takes them as equal";
+    return;
+  }
+  assume(a, r.guard_spp_a, b, r.guard_spp_b, "A", "B");
+  assume(b, r.guard_spp_b, a, r.guard_spp_a, "B", "A");
+}
+
 void test_image_mean(const SideChannel& a, const SideChannel& b, int width, int height, double alpha,
                      ChannelComparison& cc) {
   const Region whole{0, 0, width, height};
   cc.mean_a = a.region(whole);
   cc.mean_b = b.region(whole);
   cc.alpha = alpha;
-  const stats::WelchStatistic w = welch(cc.mean_a, cc.mean_b);
-  cc.dof = w.dof;
-  cc.statistic = w.statistic;
-  cc.threshold = critical_t(w.dof, alpha);
-  cc.image_mean_pass = std::fabs(w.statistic) <= cc.threshold;
+  const GuardedTest g = guarded_welch(cc.mean_a, a.samples(whole), cc.mean_b, b.samples(whole));
+  cc.dof = g.plain.dof;
+  cc.statistic = g.plain.statistic;
+  cc.guarded_statistic = g.guarded.statistic;
+  cc.threshold = critical_t(g.plain.dof, alpha);
+  const bool plain_rejects = std::fabs(g.plain.statistic) > cc.threshold;
+  const bool guarded_rejects = std::fabs(g.guarded.statistic) > critical_t(g.guarded.dof, alpha);
+  cc.image_mean_pass = !(plain_rejects && guarded_rejects);
+  cc.image_mean_held = plain_rejects && !guarded_rejects;
+  if (cc.image_mean_held) note_held(cc, "image mean", g, alpha);
   PowerFactor power(alpha);
-  cc.detectable_relative_difference = relative(power(cc.dof) * w.standard_error, cc.mean_b.mean);
+  cc.detectable_relative_difference = relative(power(cc.dof) * g.power_standard_error, cc.mean_b.mean);
 }
 
 void test_tiles(const SideChannel& a, const SideChannel& b, int width, int height, int tile, double alpha,
@@ -213,10 +314,18 @@ void test_tiles(const SideChannel& a, const SideChannel& b, int width, int heigh
     for (int x0 = 0; x0 < width; x0 += tile) {
       const Region r{x0, y0, std::min(x0 + tile, width), std::min(y0 + tile, height)};
       const stats::MeanEstimate ea = a.region(r), eb = b.region(r);
-      const stats::WelchStatistic w = welch(ea, eb);
+      const GuardedTest g = guarded_welch(ea, a.samples(r), eb, b.samples(r));
+      const stats::WelchStatistic& w = g.plain;
       tile_t.push_back(w.statistic);
       ++cc.tiles;
-      if (welch_rejects(w, alpha, z)) ++cc.tile_failures;
+      if (welch_rejects(w, alpha, z)) {
+        if (welch_rejects(g.guarded, alpha, z)) {
+          ++cc.tile_failures;
+        } else {
+          ++cc.tiles_held;
+          note_held(cc, fmt::format("tile ({}, {})", x0, y0), g, alpha);
+        }
+      }
       if (w.standard_error > 0) all_dofs.push_back(w.dof);
       if (std::fabs(w.statistic) > std::fabs(cc.worst_tile_t) || cc.tiles == 1) {
         cc.worst_tile_t = w.statistic;
@@ -225,7 +334,7 @@ void test_tiles(const SideChannel& a, const SideChannel& b, int width, int heigh
         worst_dof = w.standard_error > 0 ? w.dof : kInf;
       }
       if (eb.mean > 0 && w.standard_error > 0) {
-        relative_se.push_back(w.standard_error / eb.mean);
+        relative_se.push_back(g.power_standard_error / eb.mean);
         dofs.push_back(w.dof);
       }
     }
@@ -246,7 +355,8 @@ void test_pixels(const SideChannel& a, const SideChannel& b, size_t n, double al
   double worst_dof = kInf;
   for (size_t i = 0; i < n; ++i) {
     const stats::MeanEstimate ea = a.pixel(i), eb = b.pixel(i);
-    const stats::WelchStatistic w = welch(ea, eb);
+    const GuardedTest g = guarded_welch(ea, a.samples(i), eb, b.samples(i));
+    const stats::WelchStatistic& w = g.plain;
     pixel_t[i] = w.statistic;
     // Constant on each side at different values (a Bernoulli-like pixel
     // whose K renders all hit k and k' times): the spread says nothing of
@@ -256,7 +366,14 @@ void test_pixels(const SideChannel& a, const SideChannel& b, size_t n, double al
       ++cc.pixels_few_values;
       continue;
     }
-    if (welch_rejects(w, alpha, z)) ++cc.pixel_failures;
+    if (welch_rejects(w, alpha, z)) {
+      if (welch_rejects(g.guarded, alpha, z)) {
+        ++cc.pixel_failures;
+      } else {
+        ++cc.pixels_held;
+        note_held(cc, "pixel " + pixel_name(i, a.width()), g, alpha);
+      }
+    }
     if (first || std::fabs(w.statistic) > std::fabs(cc.worst_pixel_t)) {
       first = false;
       cc.worst_pixel_t = w.statistic;
@@ -265,7 +382,7 @@ void test_pixels(const SideChannel& a, const SideChannel& b, size_t n, double al
       worst_dof = w.standard_error > 0 ? w.dof : kInf;
     }
     if (eb.mean > 0 && w.standard_error > 0) {
-      relative_se.push_back(w.standard_error / eb.mean);
+      relative_se.push_back(g.power_standard_error / eb.mean);
       dofs.push_back(w.dof);
     }
   }
@@ -426,6 +543,7 @@ CompareResult compare_renders(const CompareSide& a, const CompareSide& b, double
   const size_t n = size_t(r.width) * size_t(r.height);
   const size_t tiles = size_t((r.width + tile_size - 1) / tile_size) * size_t((r.height + tile_size - 1) / tile_size);
   r.families = test_variance ? kCompareFamilies : kCompareFamilies - 1;
+  guard_spp(a, b, r);
   const double alpha_family = stats::sidak_alpha(alpha, size_t(r.families));
   const double alpha_mean = stats::sidak_alpha(alpha_family, channels);
   const double alpha_tile = stats::sidak_alpha(alpha_family, channels * tiles);
@@ -443,8 +561,9 @@ CompareResult compare_renders(const CompareSide& a, const CompareSide& b, double
   r.tiles_y = (r.height + tile_size - 1) / tile_size;
   r.pixel_threshold.resize(channels);
   bool mean_rejects = false, tile_rejects = false, pixel_rejects = false, variance_rejects = false;
+  bool mean_held = false, tile_held = false, pixel_held = false;
   for (size_t c = 0; c < channels; ++c) {
-    const SideChannel sa(a, c), sb(b, c);
+    const SideChannel sa(a, c, r.guard_spp_a), sb(b, c, r.guard_spp_b);
     ChannelComparison cc;
     cc.channel = first.channels[c];
     test_image_mean(sa, sb, r.width, r.height, alpha_mean, cc);
@@ -462,6 +581,9 @@ CompareResult compare_renders(const CompareSide& a, const CompareSide& b, double
     tile_rejects = tile_rejects || cc.tile_failures > 0;
     pixel_rejects = pixel_rejects || cc.pixel_failures > 0;
     variance_rejects = variance_rejects || !cc.variance_pass;
+    mean_held = mean_held || cc.image_mean_held;
+    tile_held = tile_held || cc.tiles_held > 0;
+    pixel_held = pixel_held || cc.pixels_held > 0;
     if (!(cc.detectable_relative_difference <= max_detectable_difference)) {
       const double sd_a = render_spread(cc.mean_a, a.images.size()), sd_b = render_spread(cc.mean_b, b.images.size());
       const int needed = renders_needed(mean_power, sd_a, sd_b, cc.mean_b.mean, max_detectable_difference);
@@ -477,6 +599,9 @@ CompareResult compare_renders(const CompareSide& a, const CompareSide& b, double
   if (tile_rejects) r.rejected.push_back("tiles");
   if (pixel_rejects) r.rejected.push_back("pixels");
   if (variance_rejects) r.rejected.push_back("variance");
+  if (mean_held) r.held.push_back("mean");
+  if (tile_held) r.held.push_back("tiles");
+  if (pixel_held) r.held.push_back("pixels");
   r.image_mean_has_power = r.detectable_relative_difference <= max_detectable_difference;
   if (!r.image_mean_has_power) {
     r.advice.needed = true;
@@ -486,7 +611,8 @@ CompareResult compare_renders(const CompareSide& a, const CompareSide& b, double
     r.advice.current_spp_b = side_spp(b);
   }
   r.verdict = !r.rejected.empty() ? CompareVerdict::kDifferent
-                                  : (r.image_mean_has_power ? CompareVerdict::kSame : CompareVerdict::kInconclusive);
+              : (r.held.empty() && r.image_mean_has_power) ? CompareVerdict::kSame
+                                                           : CompareVerdict::kInconclusive;
   return r;
 }
 

@@ -41,6 +41,32 @@
 // spread says nothing of their error. The tile and image tests still see
 // them, and there a zero spread on both sides demands exact agreement.
 //
+// Rare-event guard (image mean, tiles, pixels). A side whose samples all
+// missed a rare large contribution (none of 8 × 64 samples of a pixel hit a
+// small light that 8 × 4096 samples of the other side did) has a mean that is
+// low and a spread that is low with it, so its Welch t explodes although the
+// renderer is right; no test on that side's values alone can tell, since a
+// non-negative estimator of mean μ may put all of it on an event no sample
+// met. The other side's noise can: if the event is real, its variance shows
+// there. So the side with the lower mean is taken to have at least the
+// variance per sample that the higher side shows, at the lower confidence
+// bound of its spread (spread_lower_bound_factor at kSpreadConfidence):
+//   v_low ← max(v_low, b²·v_high·n_high/n_low),
+// n a side's samples behind the estimate (K × the spp its files state, or a
+// furnace EXR's N; a side whose files state no spp is taken at the other
+// side's, which the report says). A test rejects only with the floored
+// variance; when the plain Welch t would have rejected and the floored one
+// does not, the test is *held*: not judged, counted, and the comparison is
+// INCONCLUSIVE (unless another test rejects) with the spp factor at which
+// both sides would judge that difference. Where the two sides' noise per
+// sample is alike (one renderer, two seed sets) the floor never binds: the
+// guard costs power only where the lower side is the quieter one per sample,
+// and the detectable differences below use the larger of the two directions'
+// floored standard errors. The same floor makes a side that shares an error
+// across its renders (a sampler whose seed leaves the sub-pixel positions
+// alone, see docs/comparing.md) less able to show it where it is the lower
+// side: those pixels are held, not passed.
+//
 // Levels. The family-wise α is split by Šidák among the four families
 // (kCompareFamilies), and within each family by Šidák over its tests
 // (channels × tiles, channels × pixels, channels for the image mean and the
@@ -57,6 +83,8 @@
 // Verdict:
 //  - DIFFERENT (exit 1): any test rejects (names which: mean, tiles, pixels,
 //    variance); wins over INCONCLUSIVE;
+//  - INCONCLUSIVE (exit 3): nothing rejects but the rare-event guard held a
+//    test (names which, and the spp factor that would judge it);
 //  - SAME (exit 0): nothing rejects and, in every channel, the image-mean
 //    test detects a relative difference of max_detectable_difference;
 //  - INCONCLUSIVE (exit 3): nothing rejects but that power is missing; the
@@ -101,8 +129,10 @@ struct ChannelComparison {
   double statistic = 0, threshold = 0, dof = 0, alpha = 0;
   double detectable_relative_difference = 0;  // of the image mean, relative to |mean_b|, power 0.9
   bool image_mean_pass = true;
+  bool image_mean_held = false;  // Welch t rejected, the rare-event guard did not
+  double guarded_statistic = 0;  // the difference over the guard's standard error
   // Tiles.
-  int tiles = 0, tile_failures = 0;
+  int tiles = 0, tile_failures = 0, tiles_held = 0;
   double tile_alpha = 0;
   double worst_tile_t = 0;                                // largest |t| (signed)
   int worst_tile_x = 0, worst_tile_y = 0;                 // its top-left pixel
@@ -111,12 +141,19 @@ struct ChannelComparison {
   double median_tile_detectable_relative_difference = 0;  // over tiles with mean_b > 0
   // Pixels.
   int pixel_failures = 0;
+  int pixels_held = 0;        // Welch t rejected, the rare-event guard did not
   int pixels_few_values = 0;  // repeating or constant-apart values: not tested (see the header)
   double pixel_alpha = 0;
   double worst_pixel_t = 0;
   int worst_pixel_x = 0, worst_pixel_y = 0;
   double worst_pixel_threshold = 0;  // critical |t| at the worst tested pixel's d.o.f.
   double median_pixel_detectable_relative_difference = 0;  // over pixels with mean_b > 0
+  // The held test of largest |t| (image mean, tile or pixel), when any.
+  std::string worst_held;      // "image mean", "tile (x, y)" or "pixel (x, y)"; empty: none held
+  double worst_held_t = 0;     // its Welch t
+  double worst_held_guarded_t = 0;
+  double worst_held_threshold = 0;
+  double worst_held_spp_factor = 0;  // both sides at this factor × their spp judge a difference of its size
   // Variance (not run when the comparison leaves it out: variance_tested false).
   bool variance_tested = true;
   double sum_variance_a = 0, sum_variance_b = 0;  // Σ over pixels of one render's pixel variance
@@ -162,6 +199,12 @@ struct CompareResult {
   bool image_mean_has_power = false;
   // Which families rejected, in the order mean, tiles, pixels, variance.
   std::vector<std::string> rejected;
+  // Which families the rare-event guard held (mean, tiles, pixels).
+  std::vector<std::string> held;
+  // The spp per render the guard took for each side (0: a furnace EXR, its
+  // N per pixel), and, when a side's files state none, what was assumed.
+  double guard_spp_a = 0, guard_spp_b = 0;
+  std::string guard_assumption;
   CompareAdvice advice;
   CompareVerdict verdict = CompareVerdict::kDifferent;
 };

@@ -145,6 +145,14 @@ std::string format_compare(const CompareResult& r) {
         "{}), critical {:.3g} there), median detectable pixel difference {}\n",
         label, cc.pixel_failures, r.width * r.height, few, r.pixel_threshold[c], cc.worst_pixel_t, cc.worst_pixel_x,
         cc.worst_pixel_y, cc.worst_pixel_threshold, percent_text(cc.median_pixel_detectable_relative_difference));
+    if (!cc.worst_held.empty())
+      out += fmt::format(
+          "rare-event guard{}: held {}{} tiles and {} pixels: Welch t rejects them, but the lower side's spread "
+          "is below what the other side's noise per sample allows (as when its samples all missed a rare large "
+          "contribution), so they are not judged; worst {}: t {:.3g}, guarded t {:.3g} (critical {:.3g}); both "
+          "sides at {:.3g}x their spp would judge a difference of that size\n",
+          label, cc.image_mean_held ? "the image mean, " : "", cc.tiles_held, cc.pixels_held, cc.worst_held,
+          cc.worst_held_t, cc.worst_held_guarded_t, cc.worst_held_threshold, cc.worst_held_spp_factor);
     if (!cc.variance_tested)
       out += fmt::format("variance{}: not tested (--no-variance-test)\n", label);
     else
@@ -157,6 +165,10 @@ std::string format_compare(const CompareResult& r) {
   out += negative_values_text("side A", r.negative_a, r.images_a);
   out += negative_values_text("side B", r.negative_b, r.images_b);
   if (!r.rejected.empty()) out += fmt::format("different in: {}\n", joined(r.rejected));
+  if (!r.held.empty()) {
+    out += fmt::format("held by the rare-event guard, not judged: {}\n", joined(r.held));
+    if (!r.guard_assumption.empty()) out += r.guard_assumption + "\n";
+  }
   if (r.advice.needed) out += advice_text(r);
   if (r.verdict == CompareVerdict::kSame)
     out += fmt::format(
@@ -207,10 +219,13 @@ json compare_json(const CompareSide& a, const CompareSide& b, const CompareResul
            {"dof", json_number(cc.dof)},
            {"alpha", cc.alpha},
            {"detectable_relative_difference", json_number(cc.detectable_relative_difference)},
+           {"guarded_t", json_number(cc.guarded_statistic)},
+           {"held", cc.image_mean_held},
            {"pass", cc.image_mean_pass}}},
          {"tiles",
           {{"tiles", cc.tiles},
            {"failures", cc.tile_failures},
+           {"held", cc.tiles_held},
            {"alpha", cc.tile_alpha},
            {"worst_t", json_number(cc.worst_tile_t)},
            {"worst_x", cc.worst_tile_x},
@@ -220,6 +235,7 @@ json compare_json(const CompareSide& a, const CompareSide& b, const CompareResul
            {"median_detectable_relative_difference", json_number(cc.median_tile_detectable_relative_difference)}}},
          {"pixels",
           {{"failures", cc.pixel_failures},
+           {"held", cc.pixels_held},
            {"few_values", cc.pixels_few_values},
            {"alpha", cc.pixel_alpha},
            {"median_threshold", json_number(r.pixel_threshold[c])},
@@ -228,6 +244,13 @@ json compare_json(const CompareSide& a, const CompareSide& b, const CompareResul
            {"worst_y", cc.worst_pixel_y},
            {"worst_threshold", json_number(cc.worst_pixel_threshold)},
            {"median_detectable_relative_difference", json_number(cc.median_pixel_detectable_relative_difference)}}},
+         {"worst_held",
+          cc.worst_held.empty() ? json(nullptr)
+                                : json{{"test", cc.worst_held},
+                                       {"t", json_number(cc.worst_held_t)},
+                                       {"guarded_t", json_number(cc.worst_held_guarded_t)},
+                                       {"threshold", json_number(cc.worst_held_threshold)},
+                                       {"spp_factor", json_number(cc.worst_held_spp_factor)}}},
          {"variance",
           {{"tested", cc.variance_tested},
            {"sum_a", json_number(cc.sum_variance_a)},
@@ -244,6 +267,10 @@ json compare_json(const CompareSide& a, const CompareSide& b, const CompareResul
   j["detectable_relative_difference"] = json_number(r.detectable_relative_difference);
   j["image_mean_has_power"] = r.image_mean_has_power;
   j["rejected"] = r.rejected;
+  j["held"] = r.held;
+  j["rare_event_guard"] = {{"spp_a", r.guard_spp_a > 0 ? json(r.guard_spp_a) : json("N per pixel")},
+                           {"spp_b", r.guard_spp_b > 0 ? json(r.guard_spp_b) : json("N per pixel")},
+                           {"assumption", r.guard_assumption.empty() ? json(nullptr) : json(r.guard_assumption)}};
   if (r.advice.needed)
     j["advice"] = {{"renders_per_side", r.advice.renders_per_side},
                    {"spp_factor", json_number(r.advice.spp_factor)},

@@ -107,4 +107,10 @@ double spread_upper_bound_factor(double dof, double confidence) {
   return std::sqrt(dof / boost::math::quantile(chi2, 1 - confidence));
 }
 
+double spread_lower_bound_factor(double dof, double confidence) {
+  if (!std::isfinite(dof)) return 1.0;
+  const boost::math::chi_squared_distribution<double> chi2(dof);
+  return std::sqrt(dof / boost::math::quantile(chi2, confidence));
+}
+
 }  // namespace furnace::verify

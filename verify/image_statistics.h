@@ -47,5 +47,8 @@ double detectable_noncentrality(double dof, double alpha, double power);
 // √(ν/χ²_{1−confidence, ν}): the one-sided upper confidence bound of σ over s
 // from ν d.o.f.; 1 for ν = +inf.
 double spread_upper_bound_factor(double dof, double confidence);
+// √(ν/χ²_{confidence, ν}): the one-sided lower confidence bound of σ over s
+// from ν d.o.f. (0.76 at ν = 7 and confidence 0.9); 1 for ν = +inf.
+double spread_lower_bound_factor(double dof, double confidence);
 
 }  // namespace furnace::verify

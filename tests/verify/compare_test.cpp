@@ -748,6 +748,7 @@ constexpr size_t kFastTrials = 200;
 struct Calibration {
   size_t trials = 0, rejections = 0;
   size_t by_family[4] = {0, 0, 0, 0};  // mean, tiles, pixels, variance
+  size_t held = 0;                     // pairs where the rare-event guard held a test (none rejecting)
   double mean_detectable = 0;          // mean over trials of the reported detectable difference
 };
 
@@ -765,6 +766,7 @@ Calibration calibrate(size_t trials, double gain, uint64_t first_seed, double si
         kCalibrationAlpha, 1.0);
     ++cal.trials;
     cal.rejections += r.rejected.empty() ? 0 : 1;
+    cal.held += r.rejected.empty() && !r.held.empty() ? 1 : 0;
     for (int f = 0; f < 4; ++f) cal.by_family[f] += has(r.rejected, families[f]) ? 1 : 0;
     cal.mean_detectable += r.detectable_relative_difference / double(trials);
   }
@@ -783,9 +785,9 @@ void expect_false_alarms_at_most_alpha(size_t trials, double scale = 1) {
   const double p = upper_tail(cal.rejections, cal.trials, kCalibrationAlpha);
   testing::Test::RecordProperty("false_alarms", int(cal.rejections));
   std::printf("scale %g: false alarms: %zu of %zu (alpha %g; mean %zu, tiles %zu, pixels %zu, variance %zu), P(X >= k) "
-              "= %.3g\n",
+              "= %.3g; held by the rare-event guard: %zu; mean detectable difference %.4g%%\n",
               scale, cal.rejections, cal.trials, kCalibrationAlpha, cal.by_family[0], cal.by_family[1], cal.by_family[2],
-              cal.by_family[3], p);
+              cal.by_family[3], p, cal.held, 100 * cal.mean_detectable);
   EXPECT_GT(p, kCalibrationLevel) << cal.rejections << " of " << cal.trials;
 }
 
@@ -824,6 +826,7 @@ Calibration calibrate_mixed(size_t trials, int k, uint64_t first_seed) {
         furnace_side(1, seed + 1, "b"), kCalibrationAlpha, 1.0);
     ++cal.trials;
     cal.rejections += r.rejected.empty() ? 0 : 1;
+    cal.held += r.rejected.empty() && !r.held.empty() ? 1 : 0;
     for (int f = 0; f < 4; ++f) cal.by_family[f] += has(r.rejected, families[f]) ? 1 : 0;
   }
   return cal;
@@ -833,13 +836,147 @@ void expect_mixed_false_alarms_at_most_alpha(size_t trials, int k) {
   const Calibration cal = calibrate_mixed(trials, k, kCalibrationSeed + 5000000);
   const double p = upper_tail(cal.rejections, cal.trials, kCalibrationAlpha);
   std::printf("K = %d renders against one furnace EXR: false alarms %zu of %zu (alpha %g; mean %zu, tiles %zu, pixels "
-              "%zu, variance %zu), P(X >= k) = %.3g\n",
+              "%zu, variance %zu), P(X >= k) = %.3g; held by the rare-event guard: %zu\n",
               k, cal.rejections, cal.trials, kCalibrationAlpha, cal.by_family[0], cal.by_family[1], cal.by_family[2],
-              cal.by_family[3], p);
+              cal.by_family[3], p, cal.held);
   EXPECT_GT(p, kCalibrationLevel) << cal.rejections << " of " << cal.trials;
 }
 
 #ifndef FURNACE_COMPARE_SLOW
+// ---------------------------------------------------------------------------
+// The rare-event guard (compare.h). A 16 × 16 crop around a small light: every
+// pixel a background of per-sample relative noise kRareBackgroundNoise, and
+// pixel (8, 8) also a light hit with probability kRareHitProbability per
+// sample, each hit worth kRareHitValue (mean contribution p·c = 1). A render of
+// S spp holds the exact mean of its S samples' background (normal at that
+// size) plus Binomial(S, p)·c/S, and states S in its header, as pbrt-v4's do.
+// Side A at 16 spp has 8 × 16 = 128 samples at the light pixel, expected hits
+// λ = 1: all miss with probability e^-1 ≈ 0.37, and its mean and spread are
+// then the background's alone; side B at 4096 spp has 256 hits on average.
+
+constexpr int kRareSize = 16;
+constexpr size_t kRarePixel = size_t(8) * kRareSize + 8;
+constexpr double kRareBackgroundNoise = 0.3;
+constexpr double kRareHitProbability = 1.0 / 128;
+constexpr double kRareHitValue = 1 / kRareHitProbability;
+constexpr int kRareK = 8;
+
+CompareSide rare_event_side(int spp, uint64_t seed, bool light_present, const std::string& name) {
+  CompareSide side;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise;
+  std::binomial_distribution<int> hits(spp, kRareHitProbability);
+  const size_t n = size_t(kRareSize) * kRareSize;
+  for (int j = 0; j < kRareK; ++j) {
+    ForeignImage img;
+    img.path = name + std::to_string(j) + ".exr";
+    img.width = img.height = kRareSize;
+    img.source_channels = "R, G, B";
+    img.channels = {"gray"};
+    img.stated_spp = std::to_string(spp);
+    img.spp_attribute = "samplesPerPixel";
+    img.value.assign(1, std::vector<double>(n));
+    for (size_t i = 0; i < n; ++i) {
+      const double background = 1 + 0.2 * double(i % kRareSize) / kRareSize;
+      double v = background * (1 + kRareBackgroundNoise * noise(rng) / std::sqrt(double(spp)));
+      if (i == kRarePixel && light_present) v += hits(rng) * kRareHitValue / spp;
+      img.value[0][i] = float(v);
+    }
+    side.images.push_back(std::move(img));
+  }
+  return side;
+}
+
+// Same-distribution pairs, 16 spp against 4096: without the guard (counted as
+// held: plain Welch t rejecting) about a third of them would be DIFFERENT at
+// the light pixel; with it, the DIFFERENT verdicts stay within α (one-sided
+// binomial test at kCalibrationLevel) and the held ones are INCONCLUSIVE.
+TEST(CompareRareEvent, AMissedRareLightIsHeldNotDifferent) {
+  constexpr size_t kTrials = 200;
+  size_t different = 0, held = 0, light_held = 0, inconclusive = 0;
+  for (size_t t = 0; t < kTrials; ++t) {
+    const CompareResult r = compare_renders(rare_event_side(16, kCalibrationSeed + 7000000 + 2 * t, true, "a"),
+                                            rare_event_side(4096, kCalibrationSeed + 7000001 + 2 * t, true, "b"),
+                                            kCalibrationAlpha, 1.0, kDefaultTileSize, /*test_variance=*/false);
+    different += r.verdict == CompareVerdict::kDifferent ? 1 : 0;
+    held += r.held.empty() ? 0 : 1;
+    light_held += r.channels[0].worst_held == "pixel (8, 8)" ? 1 : 0;
+    inconclusive += r.verdict == CompareVerdict::kInconclusive ? 1 : 0;
+  }
+  const double p = upper_tail(different, kTrials, kCalibrationAlpha);
+  std::printf("missed rare light, 16 against 4096 spp: DIFFERENT %zu of %zu (P(X >= k) = %.3g at alpha %g); held %zu "
+              "(at the light pixel %zu), INCONCLUSIVE %zu; without the guard (the plain Welch t) %zu would be "
+              "DIFFERENT\n",
+              different, kTrials, p, kCalibrationAlpha, held, light_held, inconclusive, different + inconclusive);
+  EXPECT_GT(p, kCalibrationLevel);
+  // The scenario is exercised: a plain Welch test would have failed many.
+  EXPECT_GT(light_held, kTrials / 5);
+  EXPECT_GE(inconclusive + different, held);
+}
+
+// Negative controls. Side A without the light at that pixel (a renderer that
+// drops it): at 16 spp indistinguishable from a missed rare event, so held
+// (INCONCLUSIVE) with an spp factor; at that factor × the spp on both sides
+// the same defect is DIFFERENT through the light pixel, as it is at 4096 spp.
+TEST(CompareRareEvent, AMissingLightIsFoundAtTheSppTheGuardNames) {
+  const CompareResult low = compare_renders(rare_event_side(16, kSeedA, false, "a"),
+                                            rare_event_side(4096, kSeedB, true, "b"), kAlpha,
+                                            kDefaultMaxDetectableDifference, kDefaultTileSize, false);
+  const ChannelComparison& c = low.channels[0];
+  ASSERT_EQ(low.verdict, CompareVerdict::kInconclusive) << format_compare(low);
+  EXPECT_EQ(c.worst_held, "pixel (8, 8)");
+  EXPECT_LT(c.worst_held_t, -c.worst_held_threshold);
+  EXPECT_GE(c.worst_held_guarded_t, -c.worst_held_threshold);
+  ASSERT_TRUE(std::isfinite(c.worst_held_spp_factor));
+  const std::string text = format_compare(low);
+  EXPECT_NE(text.find("rare-event guard: held"), std::string::npos) << text;
+  EXPECT_NE(text.find("held by the rare-event guard, not judged: pixels"), std::string::npos) << text;
+  EXPECT_EQ(exit_code(low.verdict), 3);
+  const nlohmann::json j = compare_json(rare_event_side(16, kSeedA, false, "a"), rare_event_side(4096, kSeedB, true, "b"),
+                                        low, {}, ChannelMode::kGray, "");
+  EXPECT_EQ(j["channels"][0]["worst_held"]["test"], "pixel (8, 8)");
+  EXPECT_EQ(j["rare_event_guard"]["spp_a"], 16.0);
+  EXPECT_EQ(j["verdict"], "INCONCLUSIVE");
+
+  const int factor = int(std::ceil(c.worst_held_spp_factor));
+  const CompareResult at_factor = compare_renders(rare_event_side(16 * factor, kSeedA, false, "a"),
+                                                  rare_event_side(4096 * factor, kSeedB, true, "b"), kAlpha,
+                                                  kDefaultMaxDetectableDifference, kDefaultTileSize, false);
+  EXPECT_EQ(at_factor.verdict, CompareVerdict::kDifferent) << "factor " << factor << "\n" << format_compare(at_factor);
+  EXPECT_EQ(at_factor.channels[0].worst_pixel_x, 8);
+  EXPECT_EQ(at_factor.channels[0].worst_pixel_y, 8);
+  const CompareResult both_high = compare_renders(rare_event_side(4096, kSeedA, false, "a"),
+                                                  rare_event_side(4096, kSeedB, true, "b"), kAlpha,
+                                                  kDefaultMaxDetectableDifference, kDefaultTileSize, false);
+  EXPECT_EQ(both_high.verdict, CompareVerdict::kDifferent) << format_compare(both_high);
+  EXPECT_TRUE(both_high.held.empty());
+}
+
+// Where the light is not rare at either side's spp (4096 against 4096) the
+// floor never binds: nothing is held, and two seed sets are SAME.
+TEST(CompareRareEvent, EqualSidesHoldNothing) {
+  const CompareResult r = compare_renders(rare_event_side(4096, kSeedA, true, "a"),
+                                          rare_event_side(4096, kSeedB, true, "b"), kAlpha, 0.05, kDefaultTileSize,
+                                          false);
+  EXPECT_TRUE(r.held.empty()) << format_compare(r);
+  EXPECT_EQ(r.verdict, CompareVerdict::kSame) << format_compare(r);
+}
+
+// A side whose files state no spp is taken at the other side's, and the
+// report says so; with neither stated, the sides are taken as equal.
+TEST(CompareRareEvent, UnstatedSppIsAssumedAndSaid) {
+  CompareSide a = rare_event_side(16, kSeedA, true, "a"), b = rare_event_side(4096, kSeedB, true, "b");
+  for (ForeignImage& img : a.images) img.stated_spp.clear();
+  const CompareResult one = compare_renders(a, b, kAlpha, kDefaultMaxDetectableDifference, kDefaultTileSize, false);
+  EXPECT_EQ(one.guard_spp_a, 4096);
+  EXPECT_NE(one.guard_assumption.find("side A's files state no spp"), std::string::npos) << one.guard_assumption;
+  for (ForeignImage& img : b.images) img.stated_spp.clear();
+  const CompareResult none = compare_renders(a, b, kAlpha, kDefaultMaxDetectableDifference, kDefaultTileSize, false);
+  EXPECT_EQ(none.guard_spp_a, 1);
+  EXPECT_EQ(none.guard_spp_b, 1);
+  EXPECT_NE(none.guard_assumption.find("neither side"), std::string::npos);
+}
+
 TEST(CompareCalibration, MixedSidesFalseAlarmRateIsAtMostAlpha) {
   expect_mixed_false_alarms_at_most_alpha(kFastTrials, 2);
   expect_mixed_false_alarms_at_most_alpha(kFastTrials, 4);
