@@ -236,8 +236,10 @@ void note_held(ChannelComparison& cc, const std::string& what, const GuardedTest
   cc.worst_held_t = g.plain.statistic;
   cc.worst_held_guarded_t = g.guarded.statistic;
   cc.worst_held_threshold = critical_t(g.guarded.dof, alpha);
-  // Both sides' samples × f scale the guarded t by √f (for a difference that stays).
-  const double ratio = cc.worst_held_threshold / std::fabs(g.guarded.statistic);
+  // Both sides' samples × f scale the guarded t by √f (for a difference that
+  // stays): f brings it to the noncentrality found with power kReportedPower.
+  const double ratio =
+      detectable_noncentrality(g.guarded.dof, alpha, stats::kReportedPower) / std::fabs(g.guarded.statistic);
   cc.worst_held_spp_factor = std::isfinite(ratio) ? ratio * ratio : kInf;
 }
 

@@ -58,9 +58,10 @@
 // variance; when the plain Welch t would have rejected and the floored one
 // does not, the test is *held*: not judged, counted, and the comparison is
 // INCONCLUSIVE (unless another test rejects) with the spp factor at which
-// both sides would judge that difference. Where the two sides' noise per
-// sample is alike (one renderer, two seed sets) the floor never binds: the
-// guard costs power only where the lower side is the quieter one per sample,
+// both sides would find that difference with power 0.9. Where the two
+// sides' noise per sample is alike (one renderer, two seed sets) the floor
+// seldom binds: the guard costs power where the lower side is the quieter
+// one per sample (a renderer against a noisier one: more than √2 apart),
 // and the detectable differences below use the larger of the two directions'
 // floored standard errors. The same floor makes a side that shares an error
 // across its renders (a sampler whose seed leaves the sub-pixel positions
@@ -84,7 +85,7 @@
 //  - DIFFERENT (exit 1): any test rejects (names which: mean, tiles, pixels,
 //    variance); wins over INCONCLUSIVE;
 //  - INCONCLUSIVE (exit 3): nothing rejects but the rare-event guard held a
-//    test (names which, and the spp factor that would judge it);
+//    test (names which, and the spp factor that would find it);
 //  - SAME (exit 0): nothing rejects and, in every channel, the image-mean
 //    test detects a relative difference of max_detectable_difference;
 //  - INCONCLUSIVE (exit 3): nothing rejects but that power is missing; the

@@ -150,7 +150,7 @@ std::string format_compare(const CompareResult& r) {
           "rare-event guard{}: held {}{} tiles and {} pixels: Welch t rejects them, but the lower side's spread "
           "is below what the other side's noise per sample allows (as when its samples all missed a rare large "
           "contribution), so they are not judged; worst {}: t {:.3g}, guarded t {:.3g} (critical {:.3g}); both "
-          "sides at {:.3g}x their spp would judge a difference of that size\n",
+          "sides at {:.3g}x their spp would find a difference of that size with power 0.9\n",
           label, cc.image_mean_held ? "the image mean, " : "", cc.tiles_held, cc.pixels_held, cc.worst_held,
           cc.worst_held_t, cc.worst_held_guarded_t, cc.worst_held_threshold, cc.worst_held_spp_factor);
     if (!cc.variance_tested)

@@ -237,7 +237,7 @@ TEST_F(ComparePeer, PbrtTwoSeedSetsAreSame) {
 }
 
 // Negative control of the pbrt-v4 demonstration: the light 1 % brighter in
-// side A's export (above the 0.31 % it detects) → DIFFERENT.
+// side A's export (above the 0.38 % it detects) → DIFFERENT.
 TEST_F(ComparePeer, PbrtWithTheLightOnePercentBrighterIsDifferent) {
   const auto pbrt = pbrt_binary();
   if (!pbrt) GTEST_SKIP() << "skipped: no pbrt-v4 (set FURNACE_PBRT)";
