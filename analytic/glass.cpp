@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <tuple>
+#include <type_traits>
 
 #include <fmt/format.h>
 
@@ -36,38 +37,58 @@ double g2_over_g1o(MicrofacetShadowing shadowing, double lambda_o, double lambda
   return (1 + lambda_o) / (1 + lambda_o + lambda_i);
 }
 
-struct Lobes {
-  double reflection = 0, transmission = 0;        // the weights' sums, G2/G1 each
-  double reflection2 = 0, transmission2 = 0;      // their squares' sums
+// One lobe of the sampler at a microfacet normal m: the probability of
+// choosing it (F or 1 − F), its weight G2/G1(ωo), the sampled direction's z,
+// and the Jacobian dωm/dωi of that direction (0 probability: no sample).
+struct LobeSample {
+  double probability = 0, weight = 0, z = 0, jacobian = 0;
+};
+struct LobePair {
+  LobeSample reflection, transmission;
 };
 
-// The lobe terms at one microfacet normal m (unit, m_z > 0) for the view
-// wo = (sin θo, 0, μ): F·G2/G1 where the reflection stays above, (1 − F)·G2/G1
-// where the refraction goes below, and the same with (G2/G1)².
-Lobes lobes_at(const Vec3& wo, const Vec3& m, double eta, double alpha, MicrofacetShadowing shadowing,
-               double lambda_o) {
-  Lobes out;
+// The lobes at one microfacet normal m (unit, m_z > 0) for the view
+// wo = (sin θo, 0, μ): the reflection where it stays above, the refraction
+// where it goes below.
+LobePair lobe_samples_at(const Vec3& wo, const Vec3& m, double eta, double alpha, MicrofacetShadowing shadowing,
+                         double lambda_o) {
+  LobePair out;
   const double c = dot(wo, m);
   if (!(c > 0)) return out;
   const double f = fresnel_dielectric_reference(c, eta);
-  // Reflection: ωr = 2(ωo·m)m − ωo.
+  // Reflection: ωr = 2(ωo·m)m − ωo; dωm/dωr = 1/(4c).
   const double r_z = 2 * c * m.z - wo.z;
-  if (r_z > 0 && f > 0) {
-    const double w = g2_over_g1o(shadowing, lambda_o, lambda_ggx(alpha, r_z));
-    out.reflection = f * w;
-    out.reflection2 = f * w * w;
-  }
-  // Refraction (Snell at m): ωt = −ωo/η + (c/η − cos θt)·m, cos θt = √(η² − 1 + c²)/η.
+  if (r_z > 0 && f > 0) out.reflection = {f, g2_over_g1o(shadowing, lambda_o, lambda_ggx(alpha, r_z)), r_z, 1 / (4 * c)};
+  // Refraction (Snell at m): ωt = −ωo/η + (c/η − cos θt)·m, cos θt = √(η² − 1 + c²)/η,
+  // so ωt·m = −cos θt; Walter's dωm/dωt = η²·cos θt/(c − η cos θt)².
   const double radicand = (eta - 1) * (eta + 1) + c * c;
   if (radicand > 0 && f < 1) {
     const double ct = std::sqrt(radicand) / eta;
     const double t_z = -wo.z / eta + (c / eta - ct) * m.z;
     if (t_z < 0) {
-      const double w = g2_over_g1o(shadowing, lambda_o, lambda_ggx(alpha, t_z));
-      out.transmission = (1 - f) * w;
-      out.transmission2 = (1 - f) * w * w;
+      const double d = c - eta * ct;
+      out.transmission = {1 - f, g2_over_g1o(shadowing, lambda_o, lambda_ggx(alpha, t_z)), t_z,
+                          eta * eta * ct / (d * d)};
     }
   }
+  return out;
+}
+
+struct Lobes {
+  double reflection = 0, transmission = 0;        // the weights' sums, G2/G1 each
+  double reflection2 = 0, transmission2 = 0;      // their squares' sums
+};
+
+// The lobe terms at m: F·G2/G1 where the reflection stays above, (1 − F)·G2/G1
+// where the refraction goes below, and the same with (G2/G1)².
+Lobes lobes_at(const Vec3& wo, const Vec3& m, double eta, double alpha, MicrofacetShadowing shadowing,
+               double lambda_o) {
+  const LobePair p = lobe_samples_at(wo, m, eta, alpha, shadowing, lambda_o);
+  Lobes out;
+  out.reflection = p.reflection.probability * p.reflection.weight;
+  out.reflection2 = p.reflection.probability * p.reflection.weight * p.reflection.weight;
+  out.transmission = p.transmission.probability * p.transmission.weight;
+  out.transmission2 = p.transmission.probability * p.transmission.weight * p.transmission.weight;
   return out;
 }
 
@@ -102,19 +123,19 @@ constexpr int kGlassInnerDepth = 16;
 // `value` and `error` (absolute) are the rule's on [a, b], already computed;
 // each bisection spends one of `bisections_left` (at 0 every remaining piece
 // keeps its one-rule value).
-template <class F>
-GlassValues adaptive_pieces(const F& f, double a, double b, const GlassValues& value, const GlassValues& error,
-                            const GlassValues& tolerance, int depth, size_t& bisections_left) {
+template <class F, class V>
+V adaptive_pieces(const F& f, double a, double b, const V& value, const V& error, const V& tolerance, int depth,
+                  size_t& bisections_left) {
   bool met = true;
   for (size_t c = 0; c < value.size(); ++c) met = met && error[c] <= tolerance[c];
   if (met || depth == 0 || bisections_left == 0) return value;
   --bisections_left;
   const double mid = (a + b) / 2;
-  GlassValues half = tolerance;
+  V half = tolerance;
   for (double& t : half) t /= 2;
-  GlassValues left_error, right_error;
-  GlassValues left = gauss_kronrod_rule<kDefaultKronrodPoints>(f, a, mid, &left_error);
-  GlassValues right = gauss_kronrod_rule<kDefaultKronrodPoints>(f, mid, b, &right_error);
+  V left_error, right_error;
+  V left = gauss_kronrod_rule<kDefaultKronrodPoints>(f, a, mid, &left_error);
+  V right = gauss_kronrod_rule<kDefaultKronrodPoints>(f, mid, b, &right_error);
   for (size_t c = 0; c < value.size(); ++c) left_error[c] *= (mid - a) / 2, right_error[c] *= (b - mid) / 2;
   left = adaptive_pieces(f, a, mid, left, left_error, half, depth - 1, bisections_left);
   right = adaptive_pieces(f, mid, b, right, right_error, half, depth - 1, bisections_left);
@@ -133,23 +154,23 @@ GlassValues adaptive_pieces(const F& f, double a, double b, const GlassValues& v
 // tolerance is relative to (an inner integral's error is measured against
 // the outer integral: relative to itself, a nearly empty ring would ask for
 // digits its round-off does not hold, and bisect to full depth).
-template <class F>
-GlassValues integrate_pieces(const F& f, const std::vector<double>& cuts, double rel_tolerance, int depth,
-                             const GlassValues* scale = nullptr) {
+template <class F, class V = std::invoke_result_t<F, double>>
+V integrate_pieces(const F& f, const std::vector<double>& cuts, double rel_tolerance, int depth,
+                   const V* scale = nullptr) {
   struct Piece {
     double a, w;
-    GlassValues value, error;
+    V value, error;
   };
   // f on the piece [a, a + w] in t.
   const auto mapped = [&f](const Piece& p) {
     return [&f, &p](double t) {
-      GlassValues v = f(p.a + p.w * t * t * (3 - 2 * t));
+      V v = f(p.a + p.w * t * t * (3 - 2 * t));
       for (double& e : v) e *= 6 * p.w * t * (1 - t);
       return v;
     };
   };
   std::vector<Piece> pieces;
-  GlassValues first{};
+  V first{};
   for (size_t i = 0; i + 1 < cuts.size(); ++i) {
     if (!(cuts[i + 1] > cuts[i])) continue;
     Piece p{cuts[i], cuts[i + 1] - cuts[i], {}, {}};
@@ -157,13 +178,12 @@ GlassValues integrate_pieces(const F& f, const std::vector<double>& cuts, double
     for (size_t c = 0; c < first.size(); ++c) first[c] += p.value[c], p.error[c] /= 2;
     pieces.push_back(p);
   }
-  GlassValues tolerance, sum{};
+  V tolerance, sum{};
   size_t bisections_left = kGlassMaxBisections;
   for (size_t c = 0; c < first.size(); ++c)
     tolerance[c] = rel_tolerance * std::fabs(scale != nullptr ? (*scale)[c] : first[c]) / double(pieces.size());
   for (const Piece& p : pieces) {
-    const GlassValues value =
-        adaptive_pieces(mapped(p), 0.0, 1.0, p.value, p.error, tolerance, depth, bisections_left);
+    const V value = adaptive_pieces(mapped(p), 0.0, 1.0, p.value, p.error, tolerance, depth, bisections_left);
     for (size_t c = 0; c < sum.size(); ++c) sum[c] += value[c];
   }
   return sum;
@@ -221,30 +241,39 @@ double transmission_scale(double eta, TransportConvention convention) {
   return convention == TransportConvention::kRadiance ? 1 / (eta * eta) : 1.0;
 }
 
-InterfaceAlbedo dielectric_interface_albedo(const Dielectric& d, double eta, double mu,
-                                            TransportConvention convention) {
-  FURNACE_CHECK(mu > 0 && mu <= 1 && eta > 0 && eta != 1);
-  const double s = transmission_scale(eta, convention);
-  InterfaceAlbedo out;
-  if (d.smooth()) {
-    const double r = fresnel_dielectric_reference(mu, eta);
-    out.reflection = r;
-    out.transmission = 1 - r;
-    out.second_moment = r + (1 - r) * s * s;
-    return out;
-  }
-  const double alpha = d.alpha;
+namespace {
+
+// ∫ D_ωo(m)·g(m, ωo·m) dm over the visible normals m of GGX α for the view
+// ωo = (sin θo, 0, μ) (D_ωo = G1(ωo)·max(0, ωo·m)·D(m)/μ, the density of the
+// visible-normal sampler), for a g returning an array of values integrated
+// together, each to kGlassQuadratureTolerance of its whole; `eta` (the far
+// side's index relative to the viewer's) places the cuts.
+//
+// The parametrisation: w = 1 − v² (dw = 2v dv, which cancels the 1/√(1 − w)
+// of tan θm at the rim), over φ ∈ [0, π] (twice: every g here is even in
+// φ), the measure G1(ωo)·max(0, ωo·m)/(μ cos θm)·2v dv dφ/(2π). Along φ at
+// fixed θm, c = ωo·m = A cos φ + B falls monotonically, and every place where
+// the integrand jumps or kinks is a value of c: c = 0 (the visible normals'
+// rim), c = μ/(2 cos θm) (the reflection reaches the horizon), and for η < 1
+// c = √k (total internal reflection; F has a square-root kink there) and
+// c = (q² + k)/(2q), q = μ/cos θm (the refraction reaches the horizon:
+// (c − √(c² − k))·cos θm = μ). The φ range is split at those, so each piece
+// is smooth for the rule (the square root made smooth by integrate_pieces'
+// end-point map). The inner integral is not smooth in v where a φ cut
+// enters or leaves the range at φ = 0 (c = cos(θm − θo)) or φ = π
+// (c = cos(θm + θo)), or two cuts cross; v is cut at each such θm
+// (glass_v_cuts).
+template <class G>
+std::invoke_result_t<G, const Vec3&, double> integrate_visible_normals(double alpha, double eta, double mu,
+                                                                      const G& g) {
+  using V = std::invoke_result_t<G, const Vec3&, double>;
   const double sin_o = std::sqrt((1 - mu) * (1 + mu));
   const double theta_o = std::atan2(sin_o, mu);
   const Vec3 wo{sin_o, 0, mu};
-  const double lambda_o = lambda_ggx(alpha, mu);
-  const double g1o = 1 / (1 + lambda_o);
+  const double g1o = 1 / (1 + lambda_ggx(alpha, mu));
   // For η < 1, k = 1 − η²: total internal reflection at ωo·m = c below √k.
   const double k = eta < 1 ? (1 - eta) * (1 + eta) : 0.0;
   const double sqrt_k = std::sqrt(k);
-  // The integrand at (v, φ), w = 1 − v² (dw = 2v dv, which cancels the
-  // 1/√(1 − w) of tan θm at the rim), over φ ∈ [0, π] (twice: even in φ):
-  // G1(ωo)·max(0, ωo·m)/(μ cos θm) · lobe terms · 2v dv dφ/(2π).
   struct Normal {
     double cos_m, sin_m;
   };
@@ -256,24 +285,16 @@ InterfaceAlbedo dielectric_interface_albedo(const Dielectric& d, double eta, dou
   const auto at = [&](const Normal& n, double v, double phi) {
     const Vec3 m{n.sin_m * std::cos(phi), n.sin_m * std::sin(phi), n.cos_m};
     const double c = dot(wo, m);
-    if (!(c > 0) || !(n.cos_m > 0)) return GlassValues{};
-    const Lobes l = lobes_at(wo, m, eta, alpha, d.shadowing, lambda_o);
+    if (!(c > 0) || !(n.cos_m > 0)) return V{};
+    V out = g(m, c);
     // The 2v of dw over cos θm = v/√(1 − w + α²w): 2√(1 − w + α²w).
     const double weight = g1o * c / mu * 2 * std::sqrt(v * v + alpha * alpha * (1 - v * v)) / kPi;
-    return GlassValues{weight * l.reflection, weight * l.transmission,
-                       weight * (l.reflection2 + l.transmission2 * s * s)};
+    for (double& x : out) x = weight * x;
+    return out;
   };
-  // Along φ at fixed θm, c = ωo·m = A cos φ + B falls monotonically, and
-  // every place where the integrand jumps or kinks is a value of c: c = 0
-  // (the visible normals' rim), c = μ/(2 cos θm) (the reflection reaches
-  // the horizon), and for η < 1 c = √k (total internal reflection; F has a
-  // square-root kink there) and c = (q² + k)/(2q), q = μ/cos θm (the
-  // refraction reaches the horizon: (c − √(c² − k))·cos θm = μ). The φ
-  // range is split at those, so each piece is smooth for the rule (the
-  // square root made smooth by integrate_pieces' end-point map).
   // `scale`: the whole integral's estimate (nullptr: the first pass, each
   // inner integral relative to itself).
-  const auto inner = [&](double v, const GlassValues* scale) {
+  const auto inner = [&](double v, const V* scale) {
     const Normal n = normal_at(v);
     const double a = sin_o * n.sin_m, b = mu * n.cos_m;
     std::vector<double> cuts{0.0, kPi};
@@ -294,17 +315,104 @@ InterfaceAlbedo dielectric_interface_albedo(const Dielectric& d, double eta, dou
     if (scale == nullptr) return integrate_pieces(f, cuts, kGlassEstimateTolerance, kGlassEstimateDepth);
     return integrate_pieces(f, cuts, kGlassInnerTolerance, kGlassInnerDepth, scale);
   };
-  // The inner integral is not smooth in v where a φ cut enters or leaves
-  // the range at φ = 0 (c = cos(θm − θo)) or φ = π (c = cos(θm + θo)), or
-  // two cuts cross; v is cut at each such θm (glass_v_cuts).
   const std::vector<double> v_cuts = glass_v_cuts(alpha, mu, theta_o, k);
-  const GlassValues estimate = integrate_pieces([&](double v) { return inner(v, nullptr); }, v_cuts,
-                                                kGlassEstimateTolerance, kGlassEstimateDepth);
-  const GlassValues total =
-      integrate_pieces([&](double v) { return inner(v, &estimate); }, v_cuts, kGlassOuterTolerance, kGlassOuterDepth);
+  const V estimate = integrate_pieces([&](double v) { return inner(v, nullptr); }, v_cuts, kGlassEstimateTolerance,
+                                      kGlassEstimateDepth);
+  return integrate_pieces([&](double v) { return inner(v, &estimate); }, v_cuts, kGlassOuterTolerance,
+                          kGlassOuterDepth);
+}
+
+// The view ωo = (sin θo, 0, μ) of dielectric_interface_albedo.
+Vec3 view_at(double mu) { return {std::sqrt((1 - mu) * (1 + mu)), 0, mu}; }
+
+}  // namespace
+
+InterfaceAlbedo dielectric_interface_albedo(const Dielectric& d, double eta, double mu,
+                                            TransportConvention convention) {
+  FURNACE_CHECK(mu > 0 && mu <= 1 && eta > 0 && eta != 1);
+  const double s = transmission_scale(eta, convention);
+  InterfaceAlbedo out;
+  if (d.smooth()) {
+    const double r = fresnel_dielectric_reference(mu, eta);
+    out.reflection = r;
+    out.transmission = 1 - r;
+    out.second_moment = r + (1 - r) * s * s;
+    return out;
+  }
+  const double alpha = d.alpha;
+  const Vec3 wo = view_at(mu);
+  const double lambda_o = lambda_ggx(alpha, mu);
+  const GlassValues total = integrate_visible_normals(alpha, eta, mu, [&](const Vec3& m, double) {
+    const Lobes l = lobes_at(wo, m, eta, alpha, d.shadowing, lambda_o);
+    return GlassValues{l.reflection, l.transmission, l.reflection2 + l.transmission2 * s * s};
+  });
   out.reflection = total[0];
   out.transmission = total[1];
   out.second_moment = total[2];
+  return out;
+}
+
+InterfaceMisMoments dielectric_interface_mis_moments(const Dielectric& d, double eta, double mu,
+                                                     TransportConvention convention) {
+  FURNACE_CHECK(mu > 0 && mu <= 1 && eta > 0 && eta != 1);
+  const double s = transmission_scale(eta, convention);
+  const double c_b = kOneSampleBsdfProbability;
+  InterfaceMisMoments out;
+  if (d.smooth()) {
+    // A delta lobe: the light sample's f is 0, the BSDF sample's MIS weight 1.
+    const double r = fresnel_dielectric_reference(mu, eta);
+    out.balance = out.power = r + (1 - r) * s * s;
+    out.one_sample = out.balance / c_b;
+    return out;
+  }
+  const double alpha = d.alpha;
+  const Vec3 wo = view_at(mu);
+  const double lambda_o = lambda_ggx(alpha, mu);
+  const double g1o = 1 / (1 + lambda_o);
+  // Per node, E_b[·] of: M = w·s; for β = 1, 2: A = (ws)²·p_b·w_l²/p_l,
+  // B = (ws)²·w_b², C = ws·w_l; O = (ws)²·p_b/(c·p_b + (1 − c)·p_l);
+  // Lt = (ws)²·p_b/p_l. p_b = D_ωo(m)·P·J, p_l = |z|/(2π).
+  using MisValues = std::array<double, 9>;
+  const MisValues t = integrate_visible_normals(alpha, eta, mu, [&](const Vec3& m, double c) {
+    MisValues v{};
+    // GGX D(m) = α²/(π (cos²θm (α² − 1) + 1)²); D_ωo(m) = G1(ωo)·c·D(m)/μ.
+    const double q = m.z * m.z * (alpha * alpha - 1) + 1;
+    const double visible = g1o * c * alpha * alpha / (kPi * q * q) / mu;
+    const LobePair p = lobe_samples_at(wo, m, eta, alpha, d.shadowing, lambda_o);
+    const auto add = [&](const LobeSample& l, double scale) {
+      if (!(l.probability > 0)) return;
+      const double ws = l.weight * scale, ws2 = ws * ws;
+      const double pb = visible * l.probability * l.jacobian;
+      const double pl = std::fabs(l.z) / (2 * kPi);
+      const double pr = l.probability;
+      v[0] += pr * ws;
+      for (int beta = 1; beta <= 2; ++beta) {
+        const double lb = beta == 1 ? pl : pl * pl, bb = beta == 1 ? pb : pb * pb;
+        const double wl = lb / (lb + bb), wb = bb / (lb + bb);
+        const size_t at = size_t(3 * (beta - 1));
+        v[1 + at] += pr * ws2 * pb * wl * wl / pl;
+        v[2 + at] += pr * ws2 * wb * wb;
+        v[3 + at] += pr * ws * wl;
+      }
+      v[7] += pr * ws2 * pb / (c_b * pb + (1 - c_b) * pl);
+      v[8] += pr * ws2 * pb / pl;
+    };
+    add(p.reflection, 1.0);
+    add(p.transmission, s);
+    return v;
+  });
+  const double mean = t[0];
+  out.balance = t[1] + t[2] + 2 * t[3] * (mean - t[3]);
+  out.power = t[4] + t[5] + 2 * t[6] * (mean - t[6]);
+  out.one_sample = t[7];
+  out.light = t[8];
+  out.mean = mean;
+  // |δ(A + B + 2C(M − C))| ≤ tol·(A + B + 2C·M + 2C·C) to first order, every term ≥ 0.
+  const double tol = kGlassQuadratureTolerance;
+  out.balance_bound = tol * (t[1] + t[2] + 2 * t[3] * (mean + t[3]));
+  out.power_bound = tol * (t[4] + t[5] + 2 * t[6] * (mean + t[6]));
+  out.one_sample_bound = tol * t[7];
+  out.light_bound = tol * t[8];
   return out;
 }
 
@@ -355,10 +463,32 @@ namespace {
 // camera meets a plane at one angle, so a planar scene needs one quadrature
 // per object and side.
 using AlbedoMemo = std::map<std::tuple<size_t, bool, double>, InterfaceAlbedo>;
+using MisMemo = std::map<std::tuple<size_t, bool, double>, InterfaceMisMoments>;
 
-// The value of one pixel centre's ray.
+// E[Y²]/(a·L)² of `strategy` at an interface (the bsdf strategy's from the
+// albedo; the others from dielectric_interface_mis_moments, memoised alike).
+double interface_second_moment(const Scene& scene, Strategy strategy, const Dielectric& d, double eta, double mu,
+                               TransportConvention convention, const InterfaceAlbedo& albedo,
+                               const std::tuple<size_t, bool, double>& key, MisMemo& memo) {
+  if (strategy == Strategy::kBsdf) return albedo.second_moment;
+  const bool light = strategy == Strategy::kLightArea || strategy == Strategy::kLightSolidAngle;
+  if (light && d.smooth()) refuse(scene, "light sampling alone cannot find a smooth interface's delta lobe");
+  auto it = memo.find(key);
+  if (it == memo.end()) it = memo.emplace(key, dielectric_interface_mis_moments(d, eta, mu, convention)).first;
+  const InterfaceMisMoments& m = it->second;
+  switch (strategy) {
+    case Strategy::kMisBalance: return m.balance;
+    case Strategy::kMisPower: return m.power;
+    case Strategy::kMisOneSample: return m.one_sample;
+    default: return m.light;
+  }
+}
+
+// The value of one pixel centre's ray: its radiance, or with `second_moment`
+// that strategy's E[Y²] (direct lighting).
 double glass_pixel(const Scene& scene, const Vec3& origin, const Vec3& direction, int max_segments,
-                   TransportConvention convention, bool direct_only, bool second_moment, AlbedoMemo& memo) {
+                   TransportConvention convention, bool direct_only, std::optional<Strategy> second_moment,
+                   AlbedoMemo& memo, MisMemo& mis_memo) {
   const double l_env = scene.environment.radiance;
   const std::optional<Hit> hit = intersect(scene, origin, direction);
   if (!hit) return second_moment ? l_env * l_env : l_env;
@@ -374,8 +504,15 @@ double glass_pixel(const Scene& scene, const Vec3& origin, const Vec3& direction
     if (!in_front) refuse(scene, "a camera ray starts inside the glass sphere");
     const double r = fresnel_dielectric_reference(mu, eta);
     const double t = 1 - r;
-    // Direct lighting: a reflection (weight a) sees L, a refraction sees the non-emitting inside.
-    if (second_moment) return a * a * l_env * l_env * r;
+    // Direct lighting: a reflection (weight a) sees L, a refraction sees the
+    // non-emitting inside. A delta lobe: MIS weighs the BSDF sample 1 (the
+    // light sample's f is 0); one-sample MIS draws it with probability c.
+    if (second_moment) {
+      if (*second_moment == Strategy::kLightArea || *second_moment == Strategy::kLightSolidAngle)
+        refuse(scene, "light sampling alone cannot find the smooth sphere's delta lobe");
+      const double m2 = a * a * l_env * l_env * r;
+      return *second_moment == Strategy::kMisOneSample ? m2 / kOneSampleBsdfProbability : m2;
+    }
     if (direct_only) return a * r * l_env;
     const double ar = a * r;
     // Σ_{k=0}^{K} (aR)^k = (1 − (aR)^{K+1})/(1 − aR), K = S − 3 (−1 for S = 2: an empty sum).
@@ -392,7 +529,9 @@ double glass_pixel(const Scene& scene, const Vec3& origin, const Vec3& direction
   auto it = memo.find(key);
   if (it == memo.end()) it = memo.emplace(key, dielectric_interface_albedo(d, eta, mu, convention)).first;
   const InterfaceAlbedo& e = it->second;
-  if (second_moment) return a * a * l_env * l_env * e.second_moment;
+  if (second_moment)
+    return a * a * l_env * l_env *
+           interface_second_moment(scene, *second_moment, d, eta, mu, convention, e, key, mis_memo);
   return a * l_env * (e.reflection + transmission_scale(eta, convention) * e.transmission);
 }
 
@@ -402,15 +541,17 @@ namespace {
 
 // glass_pixel at every pixel centre (row-major), one albedo memo for the image.
 std::vector<double> glass_image(const Scene& scene, int max_segments, TransportConvention convention,
-                                bool direct_only, bool second_moment) {
+                                bool direct_only, std::optional<Strategy> second_moment) {
   const Camera& camera = scene.camera;
   std::vector<double> image(size_t(camera.width_px) * size_t(camera.height_px));
   AlbedoMemo memo;
+  MisMemo mis_memo;
   for (int py = 0; py < camera.height_px; ++py)
     for (int px = 0; px < camera.width_px; ++px) {
       const Camera::Ray ray = camera.pixel_center_ray(px, py);
       image[size_t(py) * camera.width_px + px] =
-          glass_pixel(scene, ray.origin, ray.direction, max_segments, convention, direct_only, second_moment, memo);
+          glass_pixel(scene, ray.origin, ray.direction, max_segments, convention, direct_only, second_moment, memo,
+                      mis_memo);
     }
   return image;
 }
@@ -422,17 +563,20 @@ std::vector<double> glass_reference_image(const Scene& scene, int max_segments, 
   if (auto reason = glass_scene_refusal(scene)) refuse(scene, *reason);
   if (max_segments < 1) throw Error(fmt::format("max_segments must be at least 1, got {}.", max_segments));
   if (has_glass_light(scene)) return glass_light_reference_image(scene, direct_only ? 2 : max_segments, convention);
-  return glass_image(scene, direct_only ? 2 : max_segments, convention, direct_only, false);
+  return glass_image(scene, direct_only ? 2 : max_segments, convention, direct_only, std::nullopt);
 }
 
 std::vector<double> glass_second_moment_image(const Scene& scene, Strategy strategy, TransportConvention convention,
                                               LightSelection selection) {
   if (auto reason = glass_scene_refusal(scene)) refuse(scene, *reason);
   if (has_glass_light(scene)) return glass_light_second_moment_image(scene, strategy, convention, selection);
-  if (strategy != Strategy::kBsdf)
+  const bool modelled = strategy == Strategy::kBsdf || strategy == Strategy::kMisBalance ||
+                        strategy == Strategy::kMisPower || strategy == Strategy::kMisOneSample ||
+                        strategy == Strategy::kLightArea || strategy == Strategy::kLightSolidAngle;
+  if (!modelled)
     refuse(scene, fmt::format("the second moment of strategy '{}' at a dielectric is not modelled",
                               strategy_name(strategy)));
-  return glass_image(scene, 2, convention, true, true);
+  return glass_image(scene, 2, convention, true, strategy);
 }
 
 }  // namespace furnace::analytic

@@ -83,6 +83,30 @@ struct InterfaceAlbedo {
 InterfaceAlbedo dielectric_interface_albedo(const Dielectric& d, double eta, double mu,
                                             TransportConvention convention);
 
+// E[Y²] of the MIS strategies and of light sampling alone at the interface of
+// dielectric_interface_albedo, under a constant environment of radiance 1
+// (albedo 1), as the renderer draws them: light samples cosine-weighted on
+// either side (p_l = |cos θi|/(2π)), BSDF samples by visible normals then
+// the lobe by F (p_b = D_ωo(m)·F·J, or 1 − F). Multi-sample MIS (one sample
+// of each, heuristic exponent β): E[(Y_l + Y_b)²] = E[Y_l²] + E[Y_b²] +
+// 2·E[Y_l]·E[Y_b]; one-sample MIS (the BSDF with probability
+// kOneSampleBsdfProbability = c): ∫ (f·|cos|·s)²/(c·p_b + (1 − c)·p_l).
+// Each integral is taken as an expectation over the BSDF sampler
+// (f·|cos θi| = w·p_b), on the albedo's nodes and cuts. A smooth interface:
+// the light sample's f is 0 and the BSDF sample's weight 1, so balance and
+// power are the bsdf strategy's E[Y²], one-sample that over c; light
+// sampling alone cannot find the delta lobe (light stays 0: not modelled).
+struct InterfaceMisMoments {
+  double balance = 0, power = 0, one_sample = 0;
+  double light = 0;  // light sampling alone (rough only)
+  double mean = 0;   // E[Y] as integrated with them (= E_R + s·E_T; a check)
+  // Error bounds: each integral within kGlassQuadratureTolerance of itself
+  // (0 for a smooth interface), propagated through the sums and products.
+  double balance_bound = 0, power_bound = 0, one_sample_bound = 0, light_bound = 0;
+};
+InterfaceMisMoments dielectric_interface_mis_moments(const Dielectric& d, double eta, double mu,
+                                                     TransportConvention convention);
+
 // The convention's factor s on transmitted radiance for relative index eta.
 double transmission_scale(double eta, TransportConvention convention);
 
@@ -100,10 +124,12 @@ std::vector<double> glass_reference_image(const Scene& scene, int max_segments, 
                                           bool direct_only);
 
 // E[Y²] per pixel centre of the direct strategy `strategy` on a glass
-// scene: bsdf only in kinds 1 and 2 (the sphere: a²L²R, a reflection seeing
-// L), every direct strategy but the hemisphere ones in kind 3 (lights behind
+// scene: in kinds 1 and 2 bsdf (the sphere: a²L²R, a reflection seeing L),
+// the MIS strategies (dielectric_interface_mis_moments; on the sphere bsdf's,
+// over c for one-sample) and light sampling alone at rough interfaces;
+// every direct strategy but the hemisphere ones in kind 3 (lights behind
 // rough glass, glass_light.h, under `selection`); throws furnace::Error for
-// another strategy.
+// another strategy, and for light sampling alone at a smooth interface.
 std::vector<double> glass_second_moment_image(const Scene& scene, Strategy strategy, TransportConvention convention,
                                               LightSelection selection = LightSelection::kUniform);
 

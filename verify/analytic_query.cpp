@@ -1,8 +1,10 @@
 #include "verify/analytic_query.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -226,8 +228,10 @@ std::string answer_glass_light_query(const Scene& original, const AnalyticQuery&
 // interfaces under a constant environment, the radiance toward the view
 // (from either side: a view behind the object's front normal looks from
 // inside, where the far side's relative index is 1/η) in the query's
-// transport convention, a·L·(E_R + s·E_T), and the bsdf estimator's second
-// moment; the other estimators are not modelled there. The error bound is
+// transport convention, a·L·(E_R + s·E_T), and the second moments of bsdf,
+// the MIS strategies and (rough) light sampling alone
+// (dielectric_interface_mis_moments); the hemisphere strategies are not
+// modelled there. The error bound is
 // the quadrature tolerance (relative) for a rough interface, round-off for a
 // smooth one.
 std::string answer_dielectric_query(const Scene& original, const AnalyticQuery& q, size_t receiver, bool json) {
@@ -282,10 +286,28 @@ std::string answer_dielectric_query(const Scene& original, const AnalyticQuery& 
       scene.name, q.point.x, q.point.y, q.point.z, q.normal.x, q.normal.y, q.normal.z, object.name, bsdf_text(bsdf),
       view.direction.x, view.direction.y, view.direction.z, view.source, inside ? "inside" : "outside", eta,
       transport_convention_name(q.convention), e.reflection, e.transmission, s, radiance, radiance_bound);
-  estimator_rows(q.estimators, {Strategy::kBsdf}, radiance, radiance_bound, j, text, [&](Strategy strategy) {
-    if (strategy != Strategy::kBsdf)
+  // The MIS strategies (and light sampling alone at a rough interface) under
+  // the constant environment: dielectric_interface_mis_moments.
+  std::vector<Strategy> defaults{Strategy::kBsdf, Strategy::kMisBalance, Strategy::kMisPower,
+                                 Strategy::kMisOneSample};
+  if (!d.smooth()) defaults.insert(defaults.end(), {Strategy::kLightArea, Strategy::kLightSolidAngle});
+  std::optional<analytic::InterfaceMisMoments> mis;
+  estimator_rows(q.estimators, defaults, radiance, radiance_bound, j, text, [&](Strategy strategy) {
+    if (strategy == Strategy::kBsdf) return BoundedValue{m2, m2_bound};
+    if (std::find(defaults.begin(), defaults.end(), strategy) == defaults.end())
       throw Error("the second moment of this estimator at a dielectric is not modelled");
-    return BoundedValue{m2, m2_bound};
+    if (!mis) mis = analytic::dielectric_interface_mis_moments(d, eta, mu, q.convention);
+    const double scale = a * a * l_env * l_env;
+    const double round_off = 64 * std::numeric_limits<double>::epsilon();
+    const auto bounded = [&](double value, double bound) {
+      return BoundedValue{scale * value, scale * (bound + round_off * value)};
+    };
+    switch (strategy) {
+      case Strategy::kMisBalance: return bounded(mis->balance, mis->balance_bound);
+      case Strategy::kMisPower: return bounded(mis->power, mis->power_bound);
+      case Strategy::kMisOneSample: return bounded(mis->one_sample, mis->one_sample_bound);
+      default: return bounded(mis->light, mis->light_bound);
+    }
   });
   return json ? j.dump(2) + "\n" : text;
 }

@@ -20,6 +20,7 @@
 #include "analytic/receiver.h"
 #include "analytic/reference.h"
 #include "core/error.h"
+#include "analytic/glass.h"
 #include "core/scene.h"
 #include "verify/analytic_query.h"
 
@@ -242,6 +243,27 @@ TEST(AnalyticQueryDielectric, RoughInterfaceAndSphere) {
   EXPECT_GT(e_r, 0.0);
   EXPECT_LT(e_r + e_t, 1.0);  // a rough interface loses what its model sends to the wrong side
   EXPECT_GT(a["radiance_error_bound"].get<double>(), 0.0);
+  // Every direct strategy that samples the BSDF or the environment has its
+  // second moment (dielectric_interface_mis_moments at albedo 1, L 1); the
+  // hemisphere ones are refused (the negative control).
+  ASSERT_EQ(strips.objects[0].name, "glass_a0.1");
+  const Dielectric& d = *strips.objects[0].material.as<Dielectric>();
+  const analytic::InterfaceMisMoments mis =
+      analytic::dielectric_interface_mis_moments(d, 1.5, -strips.camera.forward.z, TransportConvention::kRadiance);
+  const nlohmann::json& est = a["estimators"];
+  EXPECT_EQ(est["mis_balance"]["second_moment"].get<double>(), mis.balance);
+  EXPECT_EQ(est["mis_power"]["second_moment"].get<double>(), mis.power);
+  EXPECT_EQ(est["mis_one_sample"]["second_moment"].get<double>(), mis.one_sample);
+  EXPECT_EQ(est["light_area"]["second_moment"].get<double>(), mis.light);
+  EXPECT_EQ(est["light_solid_angle"]["second_moment"].get<double>(), mis.light);
+  EXPECT_GT(est["mis_balance"]["second_moment_error_bound"].get<double>(), 0.0);
+  // The variance E[Y²] − L² is at most the bsdf strategy's for power MIS here, and positive.
+  EXPECT_GT(est["mis_power"]["variance"].get<double>(), 0.0);
+  EXPECT_FALSE(est.contains("cosine_hemisphere"));
+  q.estimators = {Strategy::kCosineHemisphere};
+  const nlohmann::json refused = nlohmann::json::parse(answer_analytic_query(strips, q, true));
+  EXPECT_TRUE(refused["estimators"]["cosine_hemisphere"].contains("unsupported")) << refused.dump();
+  q.estimators.clear();
   const Scene sphere = load_scene(std::string(FURNACE_SCENE_DIR) + "/glass_sphere.json");
   q.point = {0, 0, 1};
   try {
