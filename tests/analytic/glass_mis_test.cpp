@@ -25,6 +25,11 @@
 // its error is the larger). Negative control: the light sampler's density
 // one-sided (cos θi/π above only, the transmitted half never drawn) changes
 // the one-sample moment by more than 1 %.
+//
+// Measured: the default run (2 views × 2 conventions) agrees to 1.6e-14 in
+// about 1 s; the slow one (6 views × 2 conventions) to 1.8e-9, the worst at
+// 41.5° from inside in the none convention, in about 15 min (the independent
+// integral over the inside views' uncut kinks).
 #include <algorithm>
 #include <array>
 #include <chrono>
