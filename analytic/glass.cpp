@@ -58,7 +58,8 @@ LobePair lobe_samples_at(const Vec3& wo, const Vec3& m, double eta, double alpha
   const double f = fresnel_dielectric_reference(c, eta);
   // Reflection: ωr = 2(ωo·m)m − ωo; dωm/dωr = 1/(4c).
   const double r_z = 2 * c * m.z - wo.z;
-  if (r_z > 0 && f > 0) out.reflection = {f, g2_over_g1o(shadowing, lambda_o, lambda_ggx(alpha, r_z)), r_z, 1 / (4 * c)};
+  if (r_z > 0 && f > 0)
+    out.reflection = {f, g2_over_g1o(shadowing, lambda_o, lambda_ggx(alpha, r_z)), r_z, 1 / (4 * c)};
   // Refraction (Snell at m): ωt = −ωo/η + (c/η − cos θt)·m, cos θt = √(η² − 1 + c²)/η,
   // so ωt·m = −cos θt; Walter's dωm/dωt = η²·cos θt/(c − η cos θt)².
   const double radicand = (eta - 1) * (eta + 1) + c * c;
@@ -263,13 +264,16 @@ namespace {
 // enters or leaves the range at φ = 0 (c = cos(θm − θo)) or φ = π
 // (c = cos(θm + θo)), or two cuts cross; v is cut at each such θm
 // (glass_v_cuts).
+// The view ωo = (sin θo, 0, μ) of dielectric_interface_albedo.
+Vec3 view_at(double mu) { return {std::sqrt((1 - mu) * (1 + mu)), 0, mu}; }
+
 template <class G>
 std::invoke_result_t<G, const Vec3&, double> integrate_visible_normals(double alpha, double eta, double mu,
                                                                       const G& g) {
   using V = std::invoke_result_t<G, const Vec3&, double>;
-  const double sin_o = std::sqrt((1 - mu) * (1 + mu));
+  const Vec3 wo = view_at(mu);
+  const double sin_o = wo.x;
   const double theta_o = std::atan2(sin_o, mu);
-  const Vec3 wo{sin_o, 0, mu};
   const double g1o = 1 / (1 + lambda_ggx(alpha, mu));
   // For η < 1, k = 1 − η²: total internal reflection at ωo·m = c below √k.
   const double k = eta < 1 ? (1 - eta) * (1 + eta) : 0.0;
@@ -321,9 +325,6 @@ std::invoke_result_t<G, const Vec3&, double> integrate_visible_normals(double al
   return integrate_pieces([&](double v) { return inner(v, &estimate); }, v_cuts, kGlassOuterTolerance,
                           kGlassOuterDepth);
 }
-
-// The view ωo = (sin θo, 0, μ) of dielectric_interface_albedo.
-Vec3 view_at(double mu) { return {std::sqrt((1 - mu) * (1 + mu)), 0, mu}; }
 
 }  // namespace
 

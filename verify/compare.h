@@ -61,7 +61,7 @@
 // both sides would find that difference with power 0.9. Where the two
 // sides' noise per sample is alike (one renderer, two seed sets) the floor
 // seldom binds: the guard costs power where the lower side is the quieter
-// one per sample (a renderer against a noisier one: more than √2 apart),
+// one per sample, its spread below b times the other's (0.76 at ν = 7),
 // and the detectable differences below use the larger of the two directions'
 // floored standard errors. The same floor makes a side that shares an error
 // across its renders (a sampler whose seed leaves the sub-pixel positions

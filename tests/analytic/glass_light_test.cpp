@@ -33,6 +33,7 @@
 #include "core/fresnel.h"
 #include "core/scene.h"
 #include "core/strategy.h"
+#include "tests/analytic/nested_components.h"
 
 namespace furnace::analytic {
 namespace {
@@ -169,17 +170,10 @@ Values independent(const Case& c, TransportConvention convention, bool without_e
   for (double w = width / std::fmax(rho_peak, width); w < kPi; w *= 2)
     psi_cuts.push_back(psi_peak - w), psi_cuts.push_back(psi_peak + w);
   std::sort(psi_cuts.begin(), psi_cuts.end());
-  // Two passes: a coarse one (1e-4 relative) for each component's whole, then
+  // Two passes (NestedPass): a coarse one for each component's whole, then
   // absolute tolerances kIndependentTolerance × that whole, shared out over
-  // the pieces by length (a relative tolerance per piece would chase
-  // round-off in pieces that hold nothing of a component).
-  auto integrate = [&](double relative, const Values* whole) {
-    Values inner_tolerance{}, outer_tolerance{};
-    if (whole)
-      for (size_t k = 0; k < kComponents; ++k) {
-        outer_tolerance[k] = relative * std::fabs((*whole)[k]) / psi_cuts.size();
-        inner_tolerance[k] = relative * std::fabs((*whole)[k]) / (2 * kPi * rho_cuts.size());
-      }
+  // the pieces by length.
+  auto integrate = [&](const NestedPass<Values>& pass) {
     auto inner = [&](double psi) {
       const double cs = std::cos(psi), sn = std::sin(psi);
       // Along this ray, also cut where the BTDF's support ends: ωo·m = 0
@@ -199,27 +193,18 @@ Values independent(const Case& c, TransportConvention convention, bool without_e
       roots(1, 2 * dot(c0, e), dot(c0, c0) - far * far);
       std::sort(cuts.begin(), cuts.end());
       Values sum{};
-      for (size_t i = 0; i + 1 < cuts.size(); ++i) {
-        if (!(cuts[i + 1] > cuts[i])) continue;
-        auto f = [&](double rho) { return at(rho, cs, sn); };
-        const Values piece =
-            whole ? adaptive_gauss_kronrod_components(f, cuts[i], cuts[i + 1], inner_tolerance, 14)
-                  : adaptive_gauss_kronrod_relative_components(f, cuts[i], cuts[i + 1], relative, 8);
-        for (size_t k = 0; k < kComponents; ++k) sum[k] += piece[k];
-      }
+      for (size_t i = 0; i + 1 < cuts.size(); ++i)
+        if (cuts[i + 1] > cuts[i])
+          add_scaled(sum, pass.inner([&](double rho) { return at(rho, cs, sn); }, cuts[i], cuts[i + 1]));
       return sum;
     };
     Values total{};
-    for (size_t i = 0; i + 1 < psi_cuts.size(); ++i) {
-      const Values piece =
-          whole ? adaptive_gauss_kronrod_components(inner, psi_cuts[i], psi_cuts[i + 1], outer_tolerance, 14)
-                : adaptive_gauss_kronrod_relative_components(inner, psi_cuts[i], psi_cuts[i + 1], relative, 8);
-      for (size_t k = 0; k < kComponents; ++k) total[k] += piece[k];
-    }
+    for (size_t i = 0; i + 1 < psi_cuts.size(); ++i) add_scaled(total, pass.outer(inner, psi_cuts[i], psi_cuts[i + 1]));
     return total;
   };
-  const Values coarse = integrate(1e-4, nullptr);
-  const Values total = integrate(kIndependentTolerance, &coarse);
+  const double outer = double(psi_cuts.size()), inner = 2 * kPi * double(rho_cuts.size());
+  const Values coarse = integrate(NestedPass<Values>(1e-4, nullptr, outer, inner));
+  const Values total = integrate(NestedPass<Values>(kIndependentTolerance, &coarse, outer, inner));
   return total;
 }
 

@@ -45,6 +45,7 @@
 #include "core/fresnel.h"
 #include "core/scene.h"
 #include "core/strategy.h"
+#include "tests/analytic/nested_components.h"
 
 namespace furnace::analytic {
 namespace {
@@ -169,35 +170,21 @@ Moments independent(const Case& c, TransportConvention convention, bool one_side
   std::vector<double> phi_cuts{0.0, kPi};
   for (double w = c.alpha / 16; w < kPi; w *= 2) phi_cuts.push_back(kPi - w);
   std::sort(phi_cuts.begin(), phi_cuts.end());
-  auto integrate = [&](double relative, const Values* whole) {
-    Values inner_tolerance{}, outer_tolerance{};
-    if (whole)
-      for (size_t k = 0; k < kComponents; ++k) {
-        outer_tolerance[k] = relative * std::fabs((*whole)[k]) / theta_cuts.size();
-        inner_tolerance[k] = relative * std::fabs((*whole)[k]) / (kPi * theta_cuts.size());
-      }
+  auto integrate = [&](const NestedPass<Values>& pass) {
     auto inner = [&](double theta) {
       Values sum{};
-      for (size_t i = 0; i + 1 < phi_cuts.size(); ++i) {
-        auto f = [&](double phi) { return at(theta, phi); };
-        const Values piece =
-            whole ? adaptive_gauss_kronrod_components(f, phi_cuts[i], phi_cuts[i + 1], inner_tolerance, 14)
-                  : adaptive_gauss_kronrod_relative_components(f, phi_cuts[i], phi_cuts[i + 1], relative, 8);
-        for (size_t k = 0; k < kComponents; ++k) sum[k] += 2 * piece[k];  // φ ∈ [π, 2π] mirrors [0, π]
-      }
+      for (size_t i = 0; i + 1 < phi_cuts.size(); ++i)  // φ ∈ [π, 2π] mirrors [0, π]: twice
+        add_scaled(sum, pass.inner([&](double phi) { return at(theta, phi); }, phi_cuts[i], phi_cuts[i + 1]), 2);
       return sum;
     };
     Values total{};
-    for (size_t i = 0; i + 1 < theta_cuts.size(); ++i) {
-      const Values piece =
-          whole ? adaptive_gauss_kronrod_components(inner, theta_cuts[i], theta_cuts[i + 1], outer_tolerance, 14)
-                : adaptive_gauss_kronrod_relative_components(inner, theta_cuts[i], theta_cuts[i + 1], relative, 8);
-      for (size_t k = 0; k < kComponents; ++k) total[k] += piece[k];
-    }
+    for (size_t i = 0; i + 1 < theta_cuts.size(); ++i)
+      add_scaled(total, pass.outer(inner, theta_cuts[i], theta_cuts[i + 1]));
     return total;
   };
-  const Values coarse = integrate(1e-4, nullptr);
-  const Values v = integrate(tolerance, &coarse);
+  const double pieces = double(theta_cuts.size());
+  const Values coarse = integrate(NestedPass<Values>(1e-4, nullptr, pieces, kPi * pieces));
+  const Values v = integrate(NestedPass<Values>(tolerance, &coarse, pieces, kPi * pieces));
   return {v[kMean],
           v[kBsdf],
           v[kLight],
