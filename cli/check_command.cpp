@@ -22,6 +22,12 @@ CLI::App* add_check_command(CLI::App& app, CheckCommandOptions& o) {
   command->add_option("--image", o.image_paths,
                       "OpenEXR image(s): K >= 2 independent renders (different seeds), or one furnace EXR (with "
                       "variance.R/G/B and N channels)")->required();
+  command->add_option("--guard", o.guard_paths,
+                      "Rare-event guard: OpenEXR renders of the same renderer and settings at a high spp (K >= 2 "
+                      "other seeds, or one furnace EXR). A test below the reference that rejects only because the "
+                      "images' spread is smaller than these renders' spread per sample predicts (a rare contribution "
+                      "no sample met) is held, not failed: INCONCLUSIVE, with the spp that would judge it")
+      ->type_name("IMAGE ...");
   command->add_option("--alpha", o.alpha, "Family-wise false-alarm probability")
       ->capture_default_str()->check(family_alpha());
   command->add_option("--max-detectable-bias", o.max_detectable_bias,
@@ -51,7 +57,7 @@ CLI::App* add_check_command(CLI::App& app, CheckCommandOptions& o) {
       "Verdict: PASS (exit 0) when no test rejects and the image-mean test detects a bias of --max-detectable-bias "
       "with power 0.9; FAIL (exit 1) when any test rejects, whatever the power; bad input (exit 2, one sentence on "
       "stderr); INCONCLUSIVE (exit 3) when nothing rejects but the test lacks that power (the report says how many "
-      "images or samples would give it).\n"
+      "images or samples would give it, or --guard held a test).\n"
       "Finite negative values are used as is in the tests and counted in the report and the JSON (the reference is "
       "non-negative); NaN or infinite radiance is bad input.\n" + std::string(kExitContract));
   return command;
@@ -66,9 +72,18 @@ int run_check(const CheckCommandOptions& options) {
     std::vector<verify::ForeignImage> images;
     for (const std::string& path : options.image_paths)
       images.push_back(verify::read_foreign_image(path, scene, options.channels));
-    verify::reject_identical_images(images, reference.values);
+    std::vector<verify::ForeignImage> guard;
+    for (const std::string& path : options.guard_paths)
+      guard.push_back(verify::read_foreign_image(path, scene, options.channels));
+    {
+      // A guard image that copies a checked one (or another guard image) is
+      // not an independent render.
+      std::vector<verify::ForeignImage> all = images;
+      all.insert(all.end(), guard.begin(), guard.end());
+      verify::reject_identical_images(all, reference.values);
+    }
     const verify::CheckResult r =
-        verify::check_images(images, reference.values, options.alpha, options.max_detectable_bias);
+        verify::check_images(images, reference.values, options.alpha, options.max_detectable_bias, guard);
     const std::vector<std::string> warnings = verify::provenance_warnings(scene, scene_hash, images, reference);
     for (const std::string& w : warnings) std::fprintf(stderr, "furnace: warning: %s\n", w.c_str());
     if (!options.zmap_path.empty()) verify::write_zmap(options.zmap_path, scene, r);
@@ -76,7 +91,7 @@ int run_check(const CheckCommandOptions& options) {
     std::fputs(text.c_str(), options.json_path == "-" ? stderr : stdout);
     if (!options.json_path.empty())
       verify::emit_json(options.json_path, verify::check_json(scene, scene_hash, reference, images, r, warnings,
-                                                              options.channels, options.zmap_path));
+                                                              options.channels, options.zmap_path, guard));
     return verify::exit_code(r.verdict);
   } catch (const Error& e) {
     if (!options.json_path.empty()) verify::emit_bad_input_json(options.json_path, "check", e.what());

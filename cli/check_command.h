@@ -6,8 +6,9 @@
 //   exit 2  bad input: one sentence on stderr naming the file and, for a bad
 //           pixel, the pixel, channel and value (nothing but --json is written)
 //   exit 3  INCONCLUSIVE: no test rejects, but the image-mean test cannot
-//           detect a bias of --max-detectable-bias; the text says how many
-//           images or samples would
+//           detect a bias of --max-detectable-bias (the text says how many
+//           images or samples would), or the rare-event guard (--guard) held
+//           a test (the text says at what spp it would be judged)
 // The report goes to stdout (to stderr when the JSON goes to stdout);
 // warnings (an image whose provenance names another scene, another scene-file
 // hash, a defect, or another depth) go to stderr and into the JSON.
@@ -30,6 +31,7 @@ namespace furnace::cli {
 struct CheckCommandOptions {
   std::string scene_path;
   std::vector<std::string> image_paths;
+  std::vector<std::string> guard_paths;  // the rare-event guard's images (verify/check.h); empty: none
   double alpha = stats::kDefaultFamilyAlpha;
   double max_detectable_bias = verify::kDefaultMaxDetectableBias;
   std::optional<int> max_depth;  // empty: verify::check_reference()'s default

@@ -20,8 +20,8 @@ namespace furnace::cli {
 const char* const kExitContract =
     "Exit codes (every subcommand): 0 pass, 1 fail, 2 bad input (any argument error, scene files, images, output "
     "paths; one line on stderr), 3 inconclusive (check, compare: no test rejects but the test lacks the stated "
-    "power, or compare's rare-event guard held a test; verify: a case rejected where its spp cannot support the "
-    "rejection, and none failed).";
+    "power, or a rare-event guard (compare's, check --guard) held a test; verify: a case rejected where its spp "
+    "cannot support the rejection, and none failed).";
 
 namespace {
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <optional>
 #include <utility>
 
 #include <fmt/format.h>
@@ -109,6 +110,7 @@ struct ChannelPixels {
   double sum_variance_of_mean = 0;  // Σ variance/count over the pixels
   double sum_squared_error = 0;     // Σ (mean − reference)² over the pixels
   bool all_constant = true;         // every pixel without spread: a zero-variance render
+  int width = 0;                    // of the images, for naming pixels
 };
 
 ChannelPixels channel_pixels(const std::vector<ForeignImage>& images, size_t c, const std::vector<double>& reference) {
@@ -116,6 +118,7 @@ ChannelPixels channel_pixels(const std::vector<ForeignImage>& images, size_t c, 
   const size_t k = images.size();
   const bool furnace_variance = k == 1;
   ChannelPixels p;
+  p.width = images[0].width;
   p.means.resize(n);
   p.variances.resize(n);
   p.counts.resize(n);
@@ -154,14 +157,93 @@ struct Candidate {
   size_t pixel, channel;
   double value, t;
   bool untested;
+  bool held = false;
 };
+
+// One mean estimate as the rare-event guard sees it: its variance of the
+// mean, its d.o.f. and the samples behind it.
+struct Estimate {
+  double mean = 0, variance_of_mean = 0, dof = 0, samples = 0;
+};
+
+// The guard images' side of one tested channel, and the spp per render each
+// side is taken at (0: a furnace EXR, whose N counts the samples).
+struct GuardSide {
+  const ChannelPixels* pixels = nullptr;  // null: no guard
+  double checked_spp = 0, guard_spp = 0;
+  Estimate image_mean;  // the guard images' image mean
+};
+
+// The samples behind a pixel's mean: K × spp, or a furnace EXR's N.
+double pixel_samples(const ChannelPixels& p, size_t i, double spp) { return spp > 0 ? p.counts[i] * spp : p.counts[i]; }
+
+Estimate pixel_estimate(const ChannelPixels& p, size_t i, double spp) {
+  return {p.means[i], p.variances[i] / p.counts[i], p.counts[i] - 1, pixel_samples(p, i, spp)};
+}
+
+// The mean of the samples behind each pixel's mean (the image mean's).
+double mean_samples(const ChannelPixels& p, double spp) {
+  double sum = 0;
+  for (size_t i = 0; i < p.counts.size(); ++i) sum += pixel_samples(p, i, spp);
+  return sum / double(p.counts.size());
+}
+
+// The test of `checked` against `reference` under the rare-event guard
+// (check.h): below the reference, its variance of the mean floored at the
+// guard's variance per sample, at the lower confidence bound of its spread,
+// over the checked samples; the floored term carries the guard's d.o.f.
+struct GuardedTest {
+  double statistic = 0, dof = 0;
+  bool rejects = false;
+};
+
+GuardedTest guarded_test(const Estimate& checked, const Estimate& guard, double reference, double alpha) {
+  GuardedTest g;
+  double v = checked.variance_of_mean;
+  g.dof = checked.dof;
+  if (checked.mean < reference && guard.variance_of_mean > 0 && checked.samples > 0) {
+    const double b = spread_lower_bound_factor(guard.dof, kSpreadConfidence);
+    const double floor = b * b * guard.variance_of_mean * guard.samples / checked.samples;
+    if (floor > v) {
+      v = floor;
+      g.dof = guard.dof;
+    }
+  }
+  if (v <= 0) {
+    g.statistic = checked.mean == reference ? 0 : (checked.mean < reference ? -kInf : kInf);
+    g.rejects = g.statistic != 0;
+    return g;
+  }
+  g.statistic = (checked.mean - reference) / std::sqrt(v);
+  g.rejects = std::fabs(g.statistic) > critical_statistic(g.dof, alpha);
+  return g;
+}
+
+// Records a held test when it is the worst held so far by |t|: its plain
+// and guarded statistics, and the spp factor at which the guarded t reaches
+// the noncentrality found with power kReportedPower (n × f divides the
+// floored variance by f, so t grows as √f).
+void note_held(CheckGuard& guard, const std::string& what, const std::string& channel, double plain_t,
+               const GuardedTest& g, double alpha) {
+  if (!guard.worst_held.empty() && std::fabs(plain_t) <= std::fabs(guard.worst_held_t)) return;
+  guard.worst_held = what;
+  guard.worst_held_channel = channel;
+  guard.worst_held_t = plain_t;
+  guard.worst_held_guarded_t = g.statistic;
+  guard.worst_held_threshold = critical_statistic(g.dof, alpha);
+  const double ratio = detectable_noncentrality(g.dof, alpha, stats::kReportedPower) / std::fabs(g.statistic);
+  guard.worst_held_spp_factor = std::isfinite(ratio) ? ratio * ratio : kInf;
+}
 
 // The pixel tests of channel c at level alpha_pixel: each pixel's t into
 // pixel_t and `candidates`, the failures, untested pixels and pixel power
 // into cc.
+// A pixel that rejects below the reference is tested again under the
+// rare-event guard when there is one (held when that does not reject), and
+// flags `rejected_below` when there is none.
 void test_pixels(const ChannelPixels& p, const std::vector<double>& reference, size_t c, double alpha_pixel,
-                 DetectableCache& pixel_power, ChannelCheck& cc, std::vector<double>& pixel_t,
-                 std::vector<Candidate>& candidates) {
+                 DetectableCache& pixel_power, const GuardSide& guard_side, CheckGuard& guard, bool& rejected_below,
+                 ChannelCheck& cc, std::vector<double>& pixel_t, std::vector<Candidate>& candidates) {
   std::vector<double> detectable, thresholds, dofs;
   for (size_t i = 0; i < reference.size(); ++i) {
     const stats::MeanTestResult t = stats::mean_test(uint64_t(p.counts[i]), p.means[i], p.variances[i], reference[i],
@@ -177,9 +259,26 @@ void test_pixels(const ChannelPixels& p, const std::vector<double>& reference, s
     // sampled. Its skewness is unbounded, so like verify's harness the
     // pixel is untested and left to the image-mean test.
     const bool untested = t.zero_variance && !t.pass && !p.all_constant;
-    if (untested) ++cc.pixels_untested;
-    else if (!t.pass) ++cc.pixel_failures;
-    candidates.push_back({i, c, p.means[i], pixel_t[i], untested});
+    bool held = false;
+    if (untested) {
+      ++cc.pixels_untested;
+    } else if (!t.pass) {
+      const bool below = p.means[i] < reference[i];
+      if (below && guard_side.pixels) {
+        const GuardedTest g = guarded_test(pixel_estimate(p, i, guard_side.checked_spp),
+                                           pixel_estimate(*guard_side.pixels, i, guard_side.guard_spp), reference[i],
+                                           alpha_pixel);
+        held = !g.rejects;
+        if (held) {
+          ++cc.pixels_held;
+          note_held(guard, fmt::format("pixel ({}, {})", i % size_t(p.width), i / size_t(p.width)), cc.channel,
+                    pixel_t[i], g, alpha_pixel);
+        }
+      }
+      if (!held) ++cc.pixel_failures;
+      rejected_below = rejected_below || (below && !guard_side.pixels);
+    }
+    candidates.push_back({i, c, p.means[i], pixel_t[i], untested, held});
     if (!t.zero_variance) {
       thresholds.push_back(t.threshold);
       dofs.push_back(t.dof);
@@ -228,6 +327,64 @@ double test_image_mean(const ChannelPixels& p, double reference_mean, double alp
   return sd_image_mean;
 }
 
+// The image mean of K renders (or of one furnace EXR) as the rare-event
+// guard sees it: the variance of the K images' means over K, K − 1 d.o.f.
+// (the summed pixel variances, normal, for one EXR), K × spp samples (the
+// mean N).
+Estimate image_mean_estimate(const ChannelPixels& p, double spp) {
+  const size_t n = p.means.size();
+  const size_t k = p.image_means.size();
+  if (k == 1) return {p.image_mean, p.all_constant ? 0.0 : p.sum_variance_of_mean / double(n * n), kInf,
+                      mean_samples(p, spp)};
+  double m2 = 0;
+  for (double m : p.image_means) m2 += (m - p.image_mean) * (m - p.image_mean);
+  return {p.image_mean, floored_variance(m2 / double(k - 1), p.image_mean) / double(k), double(k - 1),
+          mean_samples(p, spp)};
+}
+
+// The image-mean test again under the rare-event guard, when it rejected
+// below the reference (held when the guarded test does not reject).
+void guard_image_mean(const ChannelPixels& p, const GuardSide& guard_side, double alpha_mean, CheckGuard& guard,
+                      bool& rejected_below, ChannelCheck& cc) {
+  if (cc.image_mean_pass || !(cc.image_mean < cc.reference_mean)) return;
+  if (!guard_side.pixels) {
+    rejected_below = true;
+    return;
+  }
+  const GuardedTest g = guarded_test(image_mean_estimate(p, guard_side.checked_spp), guard_side.image_mean,
+                                     cc.reference_mean, alpha_mean);
+  cc.guarded_statistic = g.statistic;
+  if (g.rejects) return;
+  cc.image_mean_held = true;
+  cc.image_mean_pass = true;  // not judged: held
+  note_held(guard, "image mean", cc.channel, cc.statistic, g, alpha_mean);
+}
+
+// The spp per render the guard takes for the checked and the guard images
+// (0 for one furnace EXR: its N counts the samples), and what it assumed
+// for a side whose files state none: the other side's, or equal spp.
+void guard_spp(const std::vector<ForeignImage>& images, const std::vector<ForeignImage>& guard_images,
+               CheckGuard& guard) {
+  const bool checked_exr = images.size() == 1, guard_exr = guard_images.size() == 1;
+  guard.checked_spp = checked_exr ? 0 : known_spp(images);
+  guard.guard_spp = guard_exr ? 0 : known_spp(guard_images);
+  if (!checked_exr && !guard_exr && guard.checked_spp == 0 && guard.guard_spp == 0) {
+    guard.checked_spp = guard.guard_spp = 1;
+    guard.assumption = "neither the images nor the guard images state their spp: the guard takes them as equal";
+    return;
+  }
+  if (!checked_exr && guard.checked_spp == 0) {
+    guard.checked_spp = guard_exr ? stats::median(guard_images[0].count) : guard.guard_spp;
+    guard.assumption =
+        fmt::format("the images state no spp: the guard takes them at the guard images' {:.6g}", guard.checked_spp);
+  }
+  if (!guard_exr && guard.guard_spp == 0) {
+    guard.guard_spp = checked_exr ? stats::median(images[0].count) : guard.checked_spp;
+    guard.assumption =
+        fmt::format("the guard images state no spp: the guard takes them at the images' {:.6g}", guard.guard_spp);
+  }
+}
+
 // The advice's bounds over the channels whose image-mean test lacks power
 // (CheckAdvice): the same test with more images or samples.
 struct AdviceBounds {
@@ -256,7 +413,8 @@ std::vector<WorstPixel> worst_pixels(std::vector<Candidate> candidates, const st
   for (size_t w = 0; w < shown; ++w) {
     const Candidate& cand = candidates[w];
     worst.push_back({int(cand.pixel % size_t(images[0].width)), int(cand.pixel / size_t(images[0].width)),
-                     images[0].channels[cand.channel], cand.value, reference[cand.pixel], cand.t, cand.untested});
+                     images[0].channels[cand.channel], cand.value, reference[cand.pixel], cand.t, cand.untested,
+                     cand.held});
   }
   return worst;
 }
@@ -305,13 +463,16 @@ int exit_code(CheckVerdict v) {
 }
 
 CheckResult check_images(const std::vector<ForeignImage>& images, const std::vector<double>& reference, double alpha,
-                         double max_detectable_bias) {
+                         double max_detectable_bias, const std::vector<ForeignImage>& guard_images) {
   FURNACE_CHECK(!images.empty());
   const size_t n = reference.size();
   const size_t k = images.size();
   const size_t channels = images[0].channels.size();
   for (const ForeignImage& img : images) FURNACE_CHECK(img.value.size() == channels && img.value[0].size() == n);
+  for (const ForeignImage& img : guard_images)
+    FURNACE_CHECK(img.value.size() == channels && img.value[0].size() == n);
   require_error_bars(images, n);
+  if (!guard_images.empty()) require_error_bars(guard_images, n);
 
   CheckResult r;
   r.images = int(k);
@@ -332,17 +493,28 @@ CheckResult check_images(const std::vector<ForeignImage>& images, const std::vec
   DetectableCache mean_power(alpha_mean), pixel_power(alpha_pixel);
   AdviceBounds advice;
   const int advised_k = std::max(int(k), kAdvisedImages);
+  r.guard.guard_images = int(guard_images.size());
+  if (!guard_images.empty()) guard_spp(images, guard_images, r.guard);
   for (size_t c = 0; c < channels; ++c) {
     const ChannelPixels pixels = channel_pixels(images, c, reference);
+    std::optional<ChannelPixels> guard_pixels;
+    GuardSide guard_side;
+    if (!guard_images.empty()) {
+      guard_pixels = channel_pixels(guard_images, c, reference);
+      guard_side = {&*guard_pixels, r.guard.checked_spp, r.guard.guard_spp,
+                    image_mean_estimate(*guard_pixels, r.guard.guard_spp)};
+    }
     ChannelCheck cc;
     cc.channel = images[0].channels[c];
     cc.alpha = alpha_mean;
     cc.pixel_alpha = alpha_pixel;
-    test_pixels(pixels, reference, c, alpha_pixel, pixel_power, cc, r.pixel_t[c], candidates);
+    test_pixels(pixels, reference, c, alpha_pixel, pixel_power, guard_side, r.guard, r.rejected_below_unguarded, cc,
+                r.pixel_t[c], candidates);
     cc.image_mean = pixels.image_mean;
     cc.reference_mean = reference_mean;
     cc.relative_rmse = std::sqrt(pixels.sum_squared_error / double(n)) / (reference_mean > 0 ? reference_mean : 1.0);
     const double sd_image_mean = test_image_mean(pixels, reference_mean, alpha_mean, mean_power, cc);
+    guard_image_mean(pixels, guard_side, alpha_mean, r.guard, r.rejected_below_unguarded, cc);
     if (!(cc.detectable_relative_bias <= max_detectable_bias))
       bound_advice(mean_power, cc, sd_image_mean, max_detectable_bias, advised_k, advice);
     r.detectable_relative_bias = std::max(r.detectable_relative_bias, cc.detectable_relative_bias);
@@ -352,11 +524,15 @@ CheckResult check_images(const std::vector<ForeignImage>& images, const std::vec
 
   r.image_mean_has_power = r.detectable_relative_bias <= max_detectable_bias;
   r.pixels_have_power = true;
-  bool rejected = false;
+  bool rejected = false, mean_held = false, pixel_held = false;
   for (const ChannelCheck& cc : r.channels) {
     r.pixels_have_power = r.pixels_have_power && cc.median_pixel_detectable_relative_bias <= max_detectable_bias;
     rejected = rejected || !cc.image_mean_pass || cc.pixel_failures > 0;
+    mean_held = mean_held || cc.image_mean_held;
+    pixel_held = pixel_held || cc.pixels_held > 0;
   }
+  if (mean_held) r.guard.held.push_back("mean");
+  if (pixel_held) r.guard.held.push_back("pixels");
   if (!r.image_mean_has_power) {
     r.advice.needed = true;
     r.advice.images_at_current_spp = advice.beyond ? 0 : int(advice.images);
@@ -366,7 +542,8 @@ CheckResult check_images(const std::vector<ForeignImage>& images, const std::vec
     r.advice.current_spp = known_spp(images);
   }
   r.verdict = rejected ? CheckVerdict::kFail
-                       : (r.image_mean_has_power ? CheckVerdict::kPass : CheckVerdict::kInconclusive);
+                       : (r.guard.held.empty() && r.image_mean_has_power ? CheckVerdict::kPass
+                                                                         : CheckVerdict::kInconclusive);
   return r;
 }
 

@@ -37,6 +37,30 @@
 //  - PASS (exit 0): nothing rejects and the image-mean test has that power.
 // The per-pixel tests' power is reported (median detectable pixel bias) but
 // does not gate PASS: a pixel sees a thousandth of the samples of the image.
+//
+// Rare-event guard (optional: guard images, the CLI's --guard). Images whose
+// samples all missed a rare, large contribution (a small light that 8 × 64
+// samples of a pixel never hit) have a mean below the reference and a spread
+// that is small with it, so t explodes although the renderer is right. No
+// test on these images alone can tell: a non-negative estimator of mean μ may
+// put all of μ on an event no sample met, and the exact reference says
+// nothing of the checked renderer's estimator (a floor taken from furnace's
+// own estimators silenced a real Cycles finding: docs/checking.md). Renders
+// of the same renderer and settings at a high spp (K' ≥ 2 other seeds, or one
+// furnace EXR) can: if the event is real, their spread shows it. So a test
+// whose mean is below the reference has its variance of the mean floored at
+// the guard's variance per sample, at the lower confidence bound of its
+// spread (spread_lower_bound_factor at kSpreadConfidence), over the checked
+// samples: v ← max(v, b²·v_guard·n_guard/n), n the samples behind each
+// estimate (K × the spp the files state, or a furnace EXR's N; a side whose
+// files state none is taken at the other's, which the report says). The
+// floored term carries the guard's d.o.f. A test that rejects only without
+// the floor is *held*: counted, not judged, and the verdict is INCONCLUSIVE
+// (unless another test rejects) with the spp factor at which these images
+// would find a bias of that size with power kReportedPower. The guard
+// images are not themselves checked (check them with their own call), and
+// a guard set that missed the event as well leaves the floor low: the test
+// still fails.
 #pragma once
 
 #include <optional>
@@ -106,6 +130,11 @@ struct ChannelCheck {
   // while other pixels vary: a rare contribution never sampled (verify's
   // harness rule). Not tested; the image-mean test still sees them.
   int pixels_untested = 0;
+  // The rare-event guard (above): the image-mean test held, its statistic
+  // with the floored variance, and the pixel tests it held.
+  bool image_mean_held = false;
+  double guarded_statistic = 0;
+  int pixels_held = 0;
   // K ≥ 4 values taking at most K/2 distinct values (pixels_few_values): a
   // quasi-Monte Carlo or quantised render, whose values repeat to the bit.
   // Independent renders with continuous noise essentially never tie, so the
@@ -127,6 +156,7 @@ struct WorstPixel {
   double value = 0, reference = 0;
   double t = 0;  // ±inf: zero spread and not on the reference
   bool untested = false;  // see ChannelCheck::pixels_untested and pixels_few_values
+  bool held = false;      // rejected, but held by the rare-event guard
 };
 
 // How many images or samples would give the image-mean test its power,
@@ -140,6 +170,22 @@ struct CheckAdvice {
   int advised_images = 0;               // max(K, kAdvisedImages)
   double spp_factor_at_advised_images = 0;  // multiply each image's spp by this with advised_images images
   double current_spp = 0;               // from the images' provenance or N channel; 0 if unknown
+};
+
+// The rare-event guard's inputs and what it held (guard_images = 0: none).
+struct CheckGuard {
+  int guard_images = 0;
+  // The spp per render it took for the checked and the guard images (0: a
+  // furnace EXR, whose N channel counts its samples per pixel), and what it
+  // assumed for a side whose files state none.
+  double checked_spp = 0, guard_spp = 0;
+  std::string assumption;
+  std::vector<std::string> held;  // the families it held: "mean", "pixels"
+  // The held test of largest |t|, when any.
+  std::string worst_held;  // "image mean" or "pixel (x, y)"; empty: none held
+  std::string worst_held_channel;
+  double worst_held_t = 0, worst_held_guarded_t = 0, worst_held_threshold = 0;
+  double worst_held_spp_factor = 0;  // these images at this factor × their spp judge a bias of its size
 };
 
 struct CheckResult {
@@ -161,12 +207,17 @@ struct CheckResult {
   bool image_mean_has_power = false;    // detectable_relative_bias ≤ max_detectable_bias
   bool pixels_have_power = false;       // every channel's median detectable pixel bias ≤ max_detectable_bias
   CheckAdvice advice;
+  CheckGuard guard;
+  // Some test rejected below the reference without a guard: the report
+  // points to --guard (a rare event the images missed looks the same).
+  bool rejected_below_unguarded = false;
   CheckVerdict verdict = CheckVerdict::kFail;
 };
 
 // Throws furnace::Error for input the tests cannot use (one image without
-// variance channels, one furnace EXR with N < 2 somewhere).
+// variance channels, one furnace EXR with N < 2 somewhere), in `images` or
+// in `guard` (the rare-event guard's images; empty: no guard).
 CheckResult check_images(const std::vector<ForeignImage>& images, const std::vector<double>& reference, double alpha,
-                         double max_detectable_bias);
+                         double max_detectable_bias, const std::vector<ForeignImage>& guard = {});
 
 }  // namespace furnace::verify

@@ -44,6 +44,35 @@ std::string advice_text(const CheckResult& r) {
   return text;
 }
 
+std::string spp_text(double spp) { return spp > 0 ? fmt::format("{:.6g} spp", spp) : "the EXR's N"; }
+
+// The rare-event guard's line: what it took, and the worst test it held.
+std::string guard_text(const CheckResult& r) {
+  const CheckGuard& g = r.guard;
+  if (g.guard_images == 0) {
+    if (r.rejected_below_unguarded)
+      return "note: a test rejected below the reference; a rare contribution that no sample of these images met "
+             "looks the same, and only renders of the same renderer at a higher spp tell them apart: --guard "
+             "IMAGE ... (docs/checking.md)\n";
+    return "";
+  }
+  std::string text = fmt::format("rare-event guard: {} guard image(s) at {}, these images at {}; below the "
+                                 "reference each test's variance is floored at the guard's per sample (its {} "
+                                 "lower confidence bound)",
+                                 g.guard_images, spp_text(g.guard_spp), spp_text(g.checked_spp), kSpreadConfidence);
+  if (!g.assumption.empty()) text += fmt::format("; {}", g.assumption);
+  text += "\n";
+  if (g.worst_held.empty()) return text + "  held: none\n";
+  std::string families;
+  for (const std::string& f : g.held) families += (families.empty() ? "" : ", ") + f;
+  text += fmt::format("  held ({}): worst {}{}: t {:.3g}, guarded t {:.3g} (critical {:.3g}); these images at {:.3g}x "
+                      "their spp would find a bias of that size with power {}\n",
+                      families, g.worst_held, r.channels.size() > 1 ? " [" + g.worst_held_channel + "]" : "",
+                      g.worst_held_t, g.worst_held_guarded_t, g.worst_held_threshold, g.worst_held_spp_factor,
+                      stats::kReportedPower);
+  return text;
+}
+
 }  // namespace
 
 std::vector<std::string> provenance_warnings(const Scene& scene, const std::string& scene_hash,
@@ -96,12 +125,15 @@ std::string format_check(const Scene& scene, const CheckReference& reference, co
     out += fmt::format("image mean{}: {:.6g}, reference {:.6g}, {} {:.3f} (critical {:.3f}, {}): {}; detectable bias "
                        "{}: {}\n",
                        label, c.image_mean, c.reference_mean, statistic, c.statistic, c.threshold, dof_text(c.dof),
-                       c.image_mean_pass ? "agrees" : "REJECTED", percent_text(c.detectable_relative_bias),
+                       c.image_mean_held ? fmt::format("held (guarded {} {:.3f})", statistic, c.guarded_statistic)
+                                         : (c.image_mean_pass ? "agrees" : "REJECTED"),
+                       percent_text(c.detectable_relative_bias),
                        power ? fmt::format("has power (<= {})", percent_text(r.max_detectable_bias))
                              : fmt::format("LOW POWER (> {})", percent_text(r.max_detectable_bias)));
     const bool pixel_power = c.median_pixel_detectable_relative_bias <= r.max_detectable_bias;
     std::string untested =
         c.pixels_untested > 0 ? fmt::format(", {} untested (constant yet off the reference)", c.pixels_untested) : "";
+    if (c.pixels_held > 0) untested += fmt::format(", {} held (rare-event guard)", c.pixels_held);
     if (c.pixels_few_values > 0)
       untested += fmt::format(", {} untested (their {} values take at most {} distinct values, {}: the spread does "
                               "not estimate their error)",
@@ -123,7 +155,8 @@ std::string format_check(const Scene& scene, const CheckReference& reference, co
   out += "worst pixels (x, y, channel: value, reference, t):\n";
   for (const WorstPixel& w : r.worst_pixels)
     out += fmt::format("  ({}, {}) {}: {:.6g}, {:.6g}, {:.3g}{}\n", w.x, w.y, w.channel, w.value, w.reference, w.t,
-                       w.untested ? " (untested)" : "");
+                       w.untested ? " (untested)" : (w.held ? " (held)" : ""));
+  out += guard_text(r);
   if (r.advice.needed) out += advice_text(r);
   out += fmt::format("verdict: {}\n", verdict_name(r.verdict));
   return out;
@@ -131,7 +164,7 @@ std::string format_check(const Scene& scene, const CheckReference& reference, co
 
 json check_json(const Scene& scene, const std::string& scene_hash, const CheckReference& reference,
                 const std::vector<ForeignImage>& images, const CheckResult& r, const std::vector<std::string>& warnings,
-                ChannelMode channels_mode, const std::string& zmap_path) {
+                ChannelMode channels_mode, const std::string& zmap_path, const std::vector<ForeignImage>& guard) {
   json j;
   j["command"] = "check";
   j["scene"] = {{"name", scene.name}, {"file", scene.source}, {"hash", scene_hash}};
@@ -175,6 +208,9 @@ json check_json(const Scene& scene, const std::string& scene_hash, const CheckRe
                         {"alpha", c.alpha},
                         {"detectable_relative_bias", json_number(c.detectable_relative_bias)},
                         {"image_mean_pass", c.image_mean_pass},
+                        {"image_mean_held", c.image_mean_held},
+                        {"guarded_statistic", json_number(c.guarded_statistic)},
+                        {"pixels_held", c.pixels_held},
                         {"pixel_failures", c.pixel_failures},
                         {"pixels_untested", c.pixels_untested},
                         {"pixels_few_values", c.pixels_few_values},
@@ -190,8 +226,31 @@ json check_json(const Scene& scene, const std::string& scene_hash, const CheckRe
   json worst = json::array();
   for (const WorstPixel& w : r.worst_pixels)
     worst.push_back({{"x", w.x}, {"y", w.y}, {"channel", w.channel}, {"value", json_number(w.value)},
-                     {"reference", json_number(w.reference)}, {"t", json_number(w.t)}, {"untested", w.untested}});
+                     {"reference", json_number(w.reference)}, {"t", json_number(w.t)}, {"untested", w.untested},
+                     {"held", w.held}});
   j["worst_pixels"] = worst;
+  if (r.guard.guard_images > 0) {
+    const CheckGuard& g = r.guard;
+    json paths = json::array();
+    for (const ForeignImage& img : guard) paths.push_back(img.path);
+    j["rare_event_guard"] = {
+        {"images", paths},
+        {"guard_spp", g.guard_spp > 0 ? json(g.guard_spp) : json(nullptr)},
+        {"checked_spp", g.checked_spp > 0 ? json(g.checked_spp) : json(nullptr)},
+        {"assumption", g.assumption},
+        {"held", g.held},
+        {"worst_held", g.worst_held.empty()
+                           ? json(nullptr)
+                           : json({{"test", g.worst_held},
+                                   {"channel", g.worst_held_channel},
+                                   {"t", json_number(g.worst_held_t)},
+                                   {"guarded_t", json_number(g.worst_held_guarded_t)},
+                                   {"threshold", json_number(g.worst_held_threshold)},
+                                   {"spp_factor", json_number(g.worst_held_spp_factor)}})}};
+  } else {
+    j["rare_event_guard"] = nullptr;
+  }
+  j["rejected_below_unguarded"] = r.rejected_below_unguarded;
   if (r.advice.needed)
     j["advice"] = {{"images_at_current_spp", r.advice.images_at_current_spp},
                    {"spp_factor_at_current_images", json_number(r.advice.spp_factor_at_current_images)},

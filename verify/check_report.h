@@ -25,11 +25,12 @@ std::string format_check(const Scene& scene, const CheckReference& reference, co
 
 // The JSON twin of format_check: every number the text shows (non-finite
 // ones null), the images with their provenance, the warnings, `zmap_path`
-// (null when empty), the verdict and its exit code.
+// (null when empty), the rare-event guard's images and what it held (null
+// without `guard`), the verdict and its exit code.
 nlohmann::json check_json(const Scene& scene, const std::string& scene_hash, const CheckReference& reference,
                           const std::vector<ForeignImage>& images, const CheckResult& r,
                           const std::vector<std::string>& warnings, ChannelMode channels_mode,
-                          const std::string& zmap_path);
+                          const std::string& zmap_path, const std::vector<ForeignImage>& guard = {});
 
 // The per-pixel t of every tested channel as an OpenEXR file (channel Y for
 // gray, R, G, B for rgb; ±inf where a zero-spread pixel misses), atomically.

@@ -223,11 +223,6 @@ GuardedTest guarded_welch(const stats::MeanEstimate& a, double n_a, const stats:
   return g;
 }
 
-double critical_t(double dof, double alpha) {
-  if (!std::isfinite(dof)) return stats::normal_upper_quantile(alpha / 2);
-  return boost::math::quantile(boost::math::complement(boost::math::students_t_distribution<double>(dof), alpha / 2));
-}
-
 // Records a held test (plain t rejects, the guarded one does not) when it is
 // the channel's worst so far by |t|.
 void note_held(ChannelComparison& cc, const std::string& what, const GuardedTest& g, double alpha) {
@@ -235,7 +230,7 @@ void note_held(ChannelComparison& cc, const std::string& what, const GuardedTest
   cc.worst_held = what;
   cc.worst_held_t = g.plain.statistic;
   cc.worst_held_guarded_t = g.guarded.statistic;
-  cc.worst_held_threshold = critical_t(g.guarded.dof, alpha);
+  cc.worst_held_threshold = critical_statistic(g.guarded.dof, alpha);
   // Both sides' samples × f scale the guarded t by √f (for a difference that
   // stays): f brings it to the noncentrality found with power kReportedPower.
   const double ratio =
@@ -296,9 +291,9 @@ void test_image_mean(const SideChannel& a, const SideChannel& b, int width, int 
   cc.dof = g.plain.dof;
   cc.statistic = g.plain.statistic;
   cc.guarded_statistic = g.guarded.statistic;
-  cc.threshold = critical_t(g.plain.dof, alpha);
+  cc.threshold = critical_statistic(g.plain.dof, alpha);
   const bool plain_rejects = std::fabs(g.plain.statistic) > cc.threshold;
-  const bool guarded_rejects = std::fabs(g.guarded.statistic) > critical_t(g.guarded.dof, alpha);
+  const bool guarded_rejects = std::fabs(g.guarded.statistic) > critical_statistic(g.guarded.dof, alpha);
   cc.image_mean_pass = !(plain_rejects && guarded_rejects);
   cc.image_mean_held = plain_rejects && !guarded_rejects;
   if (cc.image_mean_held) note_held(cc, "image mean", g, alpha);
@@ -343,8 +338,8 @@ void test_tiles(const SideChannel& a, const SideChannel& b, int width, int heigh
   PowerFactor power(alpha);
   cc.median_tile_detectable_relative_difference =
       relative_se.empty() ? 0 : power(stats::median(dofs)) * stats::median(relative_se);
-  cc.tile_threshold = critical_t(all_dofs.empty() ? kInf : stats::median(all_dofs), alpha);
-  cc.worst_tile_threshold = critical_t(worst_dof, alpha);
+  cc.tile_threshold = critical_statistic(all_dofs.empty() ? kInf : stats::median(all_dofs), alpha);
+  cc.worst_tile_threshold = critical_statistic(worst_dof, alpha);
 }
 
 void test_pixels(const SideChannel& a, const SideChannel& b, size_t n, double alpha, ChannelComparison& cc,
@@ -392,8 +387,8 @@ void test_pixels(const SideChannel& a, const SideChannel& b, size_t n, double al
   const double median_dof = dofs.empty() ? kInf : stats::median(dofs);
   cc.median_pixel_detectable_relative_difference =
       relative_se.empty() ? 0 : power(median_dof) * stats::median(relative_se);
-  median_threshold = critical_t(median_dof, alpha);
-  cc.worst_pixel_threshold = critical_t(worst_dof, alpha);
+  median_threshold = critical_statistic(median_dof, alpha);
+  cc.worst_pixel_threshold = critical_statistic(worst_dof, alpha);
 }
 
 void test_variance_ratio(const SideChannel& a, const SideChannel& b, size_t n, double alpha, ChannelComparison& cc) {

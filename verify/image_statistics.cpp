@@ -113,4 +113,9 @@ double spread_lower_bound_factor(double dof, double confidence) {
   return std::sqrt(dof / boost::math::quantile(chi2, confidence));
 }
 
+double critical_statistic(double dof, double alpha) {
+  if (!std::isfinite(dof)) return stats::normal_upper_quantile(alpha / 2);
+  return boost::math::quantile(boost::math::complement(boost::math::students_t_distribution<double>(dof), alpha / 2));
+}
+
 }  // namespace furnace::verify

@@ -50,5 +50,8 @@ double spread_upper_bound_factor(double dof, double confidence);
 // √(ν/χ²_{confidence, ν}): the one-sided lower confidence bound of σ over s
 // from ν d.o.f. (0.76 at ν = 7 and confidence 0.9); 1 for ν = +inf.
 double spread_lower_bound_factor(double dof, double confidence);
+// The critical |statistic| of a two-sided level-α test: Student's t with
+// `dof` d.o.f., the normal quantile for dof = +inf.
+double critical_statistic(double dof, double alpha);
 
 }  // namespace furnace::verify

@@ -554,6 +554,56 @@ TEST_F(CheckCommand, DefectiveRendersFail) {
   EXPECT_EQ(r.exit_code, 1) << r.output;
 }
 
+// The rare-event guard on real renders (examples/check_rare_event): a small
+// bright sphere light beside a receiver lit by a large dim disk, rendered by
+// uniform hemisphere sampling, which hits the sphere with probability ~2e-3
+// per sample. Eight 16-spp renders miss it at most pixels and FAIL against
+// the exact reference although the renderer is right; with eight 4096-spp
+// renders of the same renderer as --guard those pixels are held and the
+// verdict is INCONCLUSIVE (exit 3). Negative controls: a renderer that drops
+// the light (the scene rendered without it), guarded by its own 4096-spp
+// renders, still FAILs; a guard image that copies a checked one is bad input.
+TEST_F(CheckCommand, RareEventGuardHoldsAMissedLightAndNotADroppedOne) {
+  const std::string scene = std::string(FURNACE_EXAMPLE_DIR) + "/check_rare_event/rare_light.json";
+  const auto set = [&](const std::string& scene_path, int first_seed, int spp) {
+    std::string paths;
+    for (int seed = first_seed; seed < first_seed + 8; ++seed)
+      paths += " " + render(scene_path, seed, "none", spp, "uniform_hemisphere");
+    return paths;
+  };
+  const std::string low = set(scene, 1, 16), guard = set(scene, 101, 4096);
+  const Result unguarded = run_cli("check --scene " + scene + " --image" + low);
+  EXPECT_EQ(unguarded.exit_code, 1) << unguarded.output;
+  EXPECT_NE(unguarded.output.find("--guard IMAGE"), std::string::npos) << unguarded.output;
+  const std::string json = (dir_ / "guarded.json").string();
+  const Result guarded = run_cli("check --scene " + scene + " --image" + low + " --guard" + guard + " --json " + json);
+  EXPECT_EQ(guarded.exit_code, 3) << guarded.output;
+  EXPECT_NE(guarded.output.find("held (pixels): worst pixel"), std::string::npos) << guarded.output;
+  EXPECT_NE(guarded.output.find("0/256 fail"), std::string::npos) << guarded.output;
+  std::ifstream in(json);
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j.at("rare_event_guard").at("guard_spp"), 4096.0);
+  EXPECT_GT(j.at("channels").at(0).at("pixels_held").get<int>(), 100);
+
+  // The renderer that drops the light: the scene without it, same name.
+  std::ifstream scene_in(scene);
+  nlohmann::json dark = nlohmann::json::parse(scene_in);
+  auto& objects = dark.at("objects");
+  objects.erase(std::remove_if(objects.begin(), objects.end(),
+                               [](const nlohmann::json& o) { return o.at("name") == "small_light"; }),
+                objects.end());
+  const std::string dark_scene = (dir_ / "rare_light_dropped.json").string();
+  std::ofstream(dark_scene) << dark.dump();
+  const Result dropped = run_cli("check --scene " + scene + " --image" + set(dark_scene, 201, 16) + " --guard" +
+                                 set(dark_scene, 301, 4096));
+  EXPECT_EQ(dropped.exit_code, 1) << dropped.output;
+  EXPECT_NE(dropped.output.find("held: none"), std::string::npos) << dropped.output;
+
+  const std::string first_low = low.substr(1, low.find(' ', 1) - 1);
+  const Result copy = run_cli("check --scene " + scene + " --image" + low + " --guard " + first_low + guard);
+  EXPECT_EQ(copy.exit_code, 2) << copy.output;
+}
+
 TEST_F(CheckCommand, WrongResolutionIsNamed) {
   const std::string other = std::string(FURNACE_SCENE_DIR) + "/white_furnace.json";  // 24x24, not 32x32
   const std::string a = render(other, 1, "none"), b = render(other, 2, "none");

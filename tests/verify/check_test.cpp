@@ -15,10 +15,14 @@
 #include <string>
 #include <vector>
 
+#include <boost/math/distributions/binomial.hpp>
+#include <nlohmann/json.hpp>
+
 #include "core/error.h"
 #include "core/exr.h"
 #include "core/provenance.h"
 #include "core/scene.h"
+#include "tests/verify/rare_event_renders.h"
 #include "verify/check.h"
 #include "verify/check_image.h"
 #include "verify/check_report.h"
@@ -486,6 +490,149 @@ TEST_F(Check, ZmapHoldsThePerPixelT) {
   ASSERT_TRUE(z.has_channel("R") && z.has_channel("G") && z.has_channel("B"));
   const std::vector<double> g = z.values("G");
   for (size_t i = 0; i < g.size(); ++i) EXPECT_EQ(g[i], double(float(r.pixel_t[1][i])));
+}
+
+// ---------------------------------------------------------------------------
+// The rare-event guard (check.h, --guard), on tests/verify/rare_event_renders.h's
+// renders of a light seen rarely: checked images 8 × 16 spp (the light pixel
+// missed entirely with probability e^-1 ≈ 0.37), guard images 8 × 4096 spp.
+
+constexpr uint64_t kRareSeed = 20261206;
+
+double binomial_upper_tail(size_t k, size_t n, double p) {
+  if (k == 0) return 1;
+  return boost::math::cdf(
+      boost::math::complement(boost::math::binomial_distribution<double>(double(n), p), double(k - 1)));
+}
+
+// 200 correct 16-spp sets, each with its own 4096-spp guard set, at α 0.05
+// (max detectable bias 1: power does not decide): without the guard about a
+// third FAIL at the light pixel; with it the FAIL verdicts stay within α
+// (one-sided binomial test at level 1e-3), and a set with a held test is
+// never PASS.
+TEST(CheckRareEvent, AMissedRareLightIsHeldNotFailed) {
+  constexpr size_t kTrials = 200;
+  constexpr double alpha = 0.05;
+  const std::vector<double> reference = rare_reference();
+  size_t fail_plain = 0, fail_guarded = 0, light_held = 0;
+  for (size_t t = 0; t < kTrials; ++t) {
+    const std::vector<ForeignImage> images = rare_renders(16, kRareSeed + 2 * t, true, "a");
+    const std::vector<ForeignImage> guard = rare_renders(4096, kRareSeed + 2 * t + 1, true, "g");
+    const CheckResult plain = check_images(images, reference, alpha, 1.0);
+    const CheckResult guarded = check_images(images, reference, alpha, 1.0, guard);
+    fail_plain += plain.verdict == CheckVerdict::kFail ? 1 : 0;
+    fail_guarded += guarded.verdict == CheckVerdict::kFail ? 1 : 0;
+    light_held += guarded.guard.worst_held == "pixel (8, 8)" ? 1 : 0;
+    // A held test is never PASS (FAIL still wins where another test rejects).
+    if (!guarded.guard.held.empty()) EXPECT_NE(guarded.verdict, CheckVerdict::kPass) << "set " << t;
+    // The guard only ever holds: it never turns a plain pass into a failure.
+    if (plain.verdict != CheckVerdict::kFail) EXPECT_NE(guarded.verdict, CheckVerdict::kFail) << "set " << t;
+  }
+  const double p = binomial_upper_tail(fail_guarded, kTrials, alpha);
+  std::printf("missed rare light, 8 x 16 spp checked with 8 x 4096 spp guard images: FAIL %zu of %zu with the guard "
+              "(P(X >= k) = %.3g at alpha %g), %zu without; held at the light pixel in %zu\n",
+              fail_guarded, kTrials, p, alpha, fail_plain, light_held);
+  EXPECT_GT(p, 1e-3);
+  // The scenario is exercised: without the guard many correct sets fail.
+  EXPECT_GT(fail_plain, kTrials / 5);
+  EXPECT_GT(light_held, kTrials / 5);
+}
+
+// Negative controls. A renderer that drops the light, its guard images from
+// the same renderer: they show no rare variance, so the floor stays the
+// background's and the check FAILs at the light pixel. With guard images of
+// a correct renderer (a mismatched guard) the same 16-spp images are held,
+// and at the spp factor the report names they FAIL.
+TEST(CheckRareEvent, AGuardNeverExcusesADeficitItsOwnRendersDoNotShow) {
+  const std::vector<double> reference = rare_reference();
+  const CheckResult dropped = check_images(rare_renders(16, kRareSeed, false, "a"), reference, kAlpha, 1.0,
+                                           rare_renders(4096, kRareSeed + 1, false, "g"));
+  EXPECT_EQ(dropped.verdict, CheckVerdict::kFail);
+  EXPECT_TRUE(dropped.guard.held.empty());
+  EXPECT_EQ(dropped.worst_pixels[0].x, 8);
+  EXPECT_EQ(dropped.worst_pixels[0].y, 8);
+
+  const CheckResult held = check_images(rare_renders(16, kRareSeed, false, "a"), reference, kAlpha, 1.0,
+                                        rare_renders(4096, kRareSeed + 1, true, "g"));
+  ASSERT_EQ(held.verdict, CheckVerdict::kInconclusive);
+  EXPECT_EQ(held.guard.worst_held, "pixel (8, 8)");
+  EXPECT_LT(held.guard.worst_held_t, -held.guard.worst_held_threshold);
+  EXPECT_GE(held.guard.worst_held_guarded_t, -held.guard.worst_held_threshold);
+  EXPECT_EQ(held.channels[0].pixels_held, 1);
+  ASSERT_TRUE(std::isfinite(held.guard.worst_held_spp_factor));
+  const int factor = int(std::ceil(held.guard.worst_held_spp_factor));
+  const CheckResult at_factor = check_images(rare_renders(16 * factor, kRareSeed, false, "a"), reference, kAlpha, 1.0,
+                                             rare_renders(4096, kRareSeed + 1, true, "g"));
+  EXPECT_EQ(at_factor.verdict, CheckVerdict::kFail) << "factor " << factor;
+  EXPECT_TRUE(at_factor.guard.held.empty());
+}
+
+// Where the light is not rare (4096 spp checked), nothing is held and
+// correct images pass; the report and the JSON say what the guard took.
+TEST(CheckRareEvent, ReportAndJsonSayWhatTheGuardTookAndHeld) {
+  const std::vector<double> reference = rare_reference();
+  const CheckResult quiet = check_images(rare_renders(4096, kRareSeed + 2, true, "a"), reference, kAlpha, 0.05,
+                                         rare_renders(4096, kRareSeed + 3, true, "g"));
+  EXPECT_TRUE(quiet.guard.held.empty());
+  EXPECT_EQ(quiet.verdict, CheckVerdict::kPass);
+
+  Scene scene;
+  scene.name = "rare";
+  scene.source = "rare.json";
+  CheckReference ref;
+  ref.values = reference;
+  ref.description = "direct lighting";
+  const std::vector<ForeignImage> guard = rare_renders(4096, kRareSeed + 1, true, "g");
+  const CheckResult held = check_images(rare_renders(16, kRareSeed, false, "a"), reference, kAlpha, 1.0, guard);
+  const std::string text = format_check(scene, ref, held);
+  EXPECT_NE(text.find("rare-event guard: 8 guard image(s) at 4096 spp, these images at 16 spp"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("held (pixels): worst pixel (8, 8)"), std::string::npos) << text;
+  EXPECT_NE(text.find("1 held (rare-event guard)"), std::string::npos) << text;
+  EXPECT_NE(text.find("(8, 8) gray"), std::string::npos) << text;
+  const nlohmann::json j = check_json(scene, "", ref, rare_renders(16, kRareSeed, false, "a"), held, {},
+                                      ChannelMode::kGray, "", guard);
+  EXPECT_EQ(j["rare_event_guard"]["worst_held"]["test"], "pixel (8, 8)");
+  EXPECT_EQ(j["rare_event_guard"]["guard_spp"], 4096.0);
+  EXPECT_EQ(j["rare_event_guard"]["checked_spp"], 16.0);
+  EXPECT_EQ(j["rare_event_guard"]["images"].size(), 8u);
+  EXPECT_EQ(j["channels"][0]["pixels_held"], 1);
+  EXPECT_EQ(j["verdict"], "INCONCLUSIVE");
+  EXPECT_EQ(j["exit_code"], 3);
+
+  // Without a guard the same images FAIL, and the report points to --guard.
+  const CheckResult unguarded = check_images(rare_renders(16, kRareSeed, false, "a"), reference, kAlpha, 1.0);
+  EXPECT_EQ(unguarded.verdict, CheckVerdict::kFail);
+  EXPECT_TRUE(unguarded.rejected_below_unguarded);
+  EXPECT_NE(format_check(scene, ref, unguarded).find("--guard"), std::string::npos);
+  EXPECT_TRUE(check_json(scene, "", ref, rare_renders(16, kRareSeed, false, "a"), unguarded, {}, ChannelMode::kGray,
+                         "")["rare_event_guard"]
+                  .is_null());
+}
+
+// Images whose files state no spp are taken at the guard's (and the report
+// says so); with neither stated, the two as equal. One guard image without
+// variance channels is bad input, as for the checked images.
+TEST(CheckRareEvent, UnstatedSppIsAssumedAndSaidAndAOneImageGuardNeedsVariance) {
+  const std::vector<double> reference = rare_reference();
+  std::vector<ForeignImage> images = rare_renders(16, kRareSeed, true, "a");
+  std::vector<ForeignImage> guard = rare_renders(4096, kRareSeed + 1, true, "g");
+  for (ForeignImage& img : images) img.stated_spp.clear();
+  const CheckResult one = check_images(images, reference, kAlpha, 1.0, guard);
+  EXPECT_EQ(one.guard.checked_spp, 4096);
+  EXPECT_NE(one.guard.assumption.find("the images state no spp"), std::string::npos) << one.guard.assumption;
+  for (ForeignImage& img : guard) img.stated_spp.clear();
+  const CheckResult none = check_images(images, reference, kAlpha, 1.0, guard);
+  EXPECT_EQ(none.guard.checked_spp, 1);
+  EXPECT_EQ(none.guard.guard_spp, 1);
+  EXPECT_NE(none.guard.assumption.find("neither"), std::string::npos);
+  const std::vector<ForeignImage> lone = {guard[0]};
+  try {
+    check_images(images, reference, kAlpha, 1.0, lone);
+    ADD_FAILURE() << "a lone guard image without variance was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("g0.exr"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

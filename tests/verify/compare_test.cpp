@@ -34,6 +34,7 @@
 #include "stats/statistics.h"
 #include "stats/test_design.h"
 #include "tests/command.h"
+#include "tests/verify/rare_event_renders.h"
 #include "verify/compare.h"
 #include "verify/compare_report.h"
 #include "verify/image_report.h"
@@ -844,47 +845,13 @@ void expect_mixed_false_alarms_at_most_alpha(size_t trials, int k) {
 
 #ifndef FURNACE_COMPARE_SLOW
 // ---------------------------------------------------------------------------
-// The rare-event guard (compare.h). A 16 × 16 crop around a small light: every
-// pixel a background of per-sample relative noise kRareBackgroundNoise, and
-// pixel (8, 8) also a light hit with probability kRareHitProbability per
-// sample, each hit worth kRareHitValue (mean contribution p·c = 1). A render of
-// S spp holds the exact mean of its S samples' background (normal at that
-// size) plus Binomial(S, p)·c/S, and states S in its header, as pbrt-v4's do.
-// Side A at 16 spp has 8 × 16 = 128 samples at the light pixel, expected hits
-// λ = 1: all miss with probability e^-1 ≈ 0.37, and its mean and spread are
-// then the background's alone; side B at 4096 spp has 256 hits on average.
-
-constexpr int kRareSize = 16;
-constexpr size_t kRarePixel = size_t(8) * kRareSize + 8;
-constexpr double kRareBackgroundNoise = 0.3;
-constexpr double kRareHitProbability = 1.0 / 128;
-constexpr double kRareHitValue = 1 / kRareHitProbability;
-constexpr int kRareK = 8;
+// The rare-event guard (compare.h), on tests/verify/rare_event_renders.h's
+// renders of a light seen rarely. Side A at 16 spp misses the light pixel
+// entirely with probability e^-1 ≈ 0.37; side B at 4096 spp has 256 hits
+// there on average.
 
 CompareSide rare_event_side(int spp, uint64_t seed, bool light_present, const std::string& name) {
-  CompareSide side;
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> noise;
-  std::binomial_distribution<int> hits(spp, kRareHitProbability);
-  const size_t n = size_t(kRareSize) * kRareSize;
-  for (int j = 0; j < kRareK; ++j) {
-    ForeignImage img;
-    img.path = name + std::to_string(j) + ".exr";
-    img.width = img.height = kRareSize;
-    img.source_channels = "R, G, B";
-    img.channels = {"gray"};
-    img.stated_spp = std::to_string(spp);
-    img.spp_attribute = "samplesPerPixel";
-    img.value.assign(1, std::vector<double>(n));
-    for (size_t i = 0; i < n; ++i) {
-      const double background = 1 + 0.2 * double(i % kRareSize) / kRareSize;
-      double v = background * (1 + kRareBackgroundNoise * noise(rng) / std::sqrt(double(spp)));
-      if (i == kRarePixel && light_present) v += hits(rng) * kRareHitValue / spp;
-      img.value[0][i] = float(v);
-    }
-    side.images.push_back(std::move(img));
-  }
-  return side;
+  return CompareSide{rare_renders(spp, seed, light_present, name)};
 }
 
 // Same-distribution pairs, 16 spp against 4096: without the guard (counted as
