@@ -353,19 +353,48 @@ InterfaceAlbedo dielectric_interface_albedo(const Dielectric& d, double eta, dou
   return out;
 }
 
-InterfaceMisMoments dielectric_interface_mis_moments(const Dielectric& d, double eta, double mu,
-                                                     TransportConvention convention) {
+InterfaceLobeMoments dielectric_interface_lobe_moments(const Dielectric& d, double eta, double mu,
+                                                       TransportConvention convention) {
   FURNACE_CHECK(mu > 0 && mu <= 1 && eta > 0 && eta != 1);
   const double s = transmission_scale(eta, convention);
+  if (d.smooth()) {
+    const double r = fresnel_dielectric_reference(mu, eta);
+    return {r, (1 - r) * s * s};
+  }
+  const double alpha = d.alpha;
+  const Vec3 wo = view_at(mu);
+  const double lambda_o = lambda_ggx(alpha, mu);
+  const std::array<double, 2> total = integrate_visible_normals(alpha, eta, mu, [&](const Vec3& m, double) {
+    const Lobes l = lobes_at(wo, m, eta, alpha, d.shadowing, lambda_o);
+    return std::array<double, 2>{l.reflection2, l.transmission2 * s * s};
+  });
+  return {total[0], total[1]};
+}
+
+InterfaceMisMoments dielectric_interface_mis_moments(const Dielectric& d, double eta, double mu,
+                                                     TransportConvention convention,
+                                                     const InterfaceEnvironment& environment) {
+  FURNACE_CHECK(mu > 0 && mu <= 1 && eta > 0 && eta != 1);
+  FURNACE_CHECK(environment.view >= 0 && environment.far >= 0 && environment.view + environment.far > 0);
+  const double s = transmission_scale(eta, convention);
   const double c_b = kOneSampleBsdfProbability;
+  const double l_view = environment.view, l_far = environment.far;
   InterfaceMisMoments out;
   if (d.smooth()) {
     // A delta lobe: the light sample's f is 0, the BSDF sample's MIS weight 1.
     const double r = fresnel_dielectric_reference(mu, eta);
-    out.balance = out.power = r + (1 - r) * s * s;
+    out.balance = out.power = l_view * l_view * r + l_far * l_far * (1 - r) * s * s;
     out.one_sample = out.balance / c_b;
+    out.mean = l_view * r + l_far * (1 - r) * s;
     return out;
   }
+  // The light sampler's density toward a lobe's direction (z its cosine on
+  // the viewer's side: > 0 reflected, < 0 transmitted).
+  const double map_total = 2 * kPi * (l_view + l_far);
+  const auto light_density = [&](double z) {
+    if (!environment.map) return std::fabs(z) / (2 * kPi);
+    return (z > 0 ? l_view : l_far) / map_total;
+  };
   const double alpha = d.alpha;
   const Vec3 wo = view_at(mu);
   const double lambda_o = lambda_ggx(alpha, mu);
@@ -382,9 +411,12 @@ InterfaceMisMoments dielectric_interface_mis_moments(const Dielectric& d, double
     const LobePair p = lobe_samples_at(wo, m, eta, alpha, d.shadowing, lambda_o);
     const auto add = [&](const LobeSample& l, double scale) {
       if (!(l.probability > 0)) return;
+      // A sample toward a black side adds nothing (and the map's light
+      // sampler has no density there).
       const double ws = l.weight * scale, ws2 = ws * ws;
+      if (ws == 0) return;
       const double pb = visible * l.probability * l.jacobian;
-      const double pl = std::fabs(l.z) / (2 * kPi);
+      const double pl = light_density(l.z);
       const double pr = l.probability;
       v[0] += pr * ws;
       for (int beta = 1; beta <= 2; ++beta) {
@@ -398,8 +430,8 @@ InterfaceMisMoments dielectric_interface_mis_moments(const Dielectric& d, double
       v[7] += pr * ws2 * pb / (c_b * pb + (1 - c_b) * pl);
       v[8] += pr * ws2 * pb / pl;
     };
-    add(p.reflection, 1.0);
-    add(p.transmission, s);
+    add(p.reflection, l_view);
+    add(p.transmission, s * l_far);
     return v;
   });
   const double mean = t[0];
@@ -423,10 +455,39 @@ bool has_dielectric(const Scene& scene) {
   return false;
 }
 
+namespace {
+
+// A lat-long map's two hemisphere values (above and below z = 0), when it is
+// constant on each: an even number of rows (the equator a row edge: row
+// floor(θ/π·H) of core/environment_map.h), all the upper half's texels
+// equal, all the lower half's equal. Empty otherwise.
+std::optional<std::array<double, 2>> hemisphere_values(const LatLongMap& map) {
+  if (map.height % 2 != 0) return std::nullopt;
+  const int half = map.height / 2;
+  const double upper = map.texel(0, 0), lower = map.texel(half, 0);
+  for (int i = 0; i < map.height; ++i)
+    for (int j = 0; j < map.width; ++j)
+      if (map.texel(i, j) != (i < half ? upper : lower)) return std::nullopt;
+  return std::array<double, 2>{upper, lower};
+}
+
+}  // namespace
+
+InterfaceEnvironment interface_environment(const Scene& scene, const Vec3& view_normal) {
+  const Environment& env = scene.environment;
+  if (!env.map) return {env.radiance, env.radiance, false};
+  const std::optional<std::array<double, 2>> values = hemisphere_values(*env.map);
+  if (!values || std::fabs(view_normal.x) + std::fabs(view_normal.y) > 1e-12 || view_normal.z == 0)
+    throw Error(fmt::format("scene '{}' ({}): the environment map '{}' is not constant on each side of the glass "
+                            "plane.",
+                            scene.name, scene.source, env.map_file));
+  const double above = env.radiance * (*values)[0], below = env.radiance * (*values)[1];
+  return view_normal.z > 0 ? InterfaceEnvironment{above, below, true} : InterfaceEnvironment{below, above, true};
+}
+
 std::optional<std::string> glass_scene_refusal(const Scene& scene) {
   if (has_glass_light(scene)) return glass_light_scene_refusal(scene);  // kind 3 (glass_light.h)
   if (!scene.point_lights.empty()) return "it has point lights";
-  if (scene.environment.map) return "its environment is a map, not constant";
   if (scene.closed) return "it is closed";
   if (scene.objects.empty()) return "it has no object";
   for (const Object& o : scene.objects) {
@@ -434,6 +495,7 @@ std::optional<std::string> glass_scene_refusal(const Scene& scene) {
     if (!o.material.as<Dielectric>()) return fmt::format("object '{}' is not a dielectric", o.name);
   }
   if (scene.objects.size() == 1 && std::holds_alternative<Sphere>(scene.objects[0].shape)) {
+    if (scene.environment.map) return "its environment is a map, not constant";
     if (!scene.objects[0].material.as<Dielectric>()->smooth()) return "its glass sphere is rough";
     return std::nullopt;
   }
@@ -451,6 +513,15 @@ std::optional<std::string> glass_scene_refusal(const Scene& scene) {
         std::fabs(dot(plane->point - first->point, first->normal)) > 1e-13 * scale)
       return fmt::format("object '{}' is not in the plane of '{}'", o.name, scene.objects[0].name);
   }
+  // A map: a sky on one side, constant on each hemisphere of a plane z = const.
+  if (scene.environment.map) {
+    if (!hemisphere_values(*scene.environment.map))
+      return fmt::format("its environment map '{}' is not constant on each hemisphere (an even number of rows, the "
+                         "upper half's texels all equal and the lower half's)",
+                         scene.environment.map_file);
+    if (std::fabs(first->normal.x) + std::fabs(first->normal.y) > 1e-12)
+      return "its environment is a map and its glass plane is not z = const, so the sky is not on one side";
+  }
   return std::nullopt;
 }
 
@@ -465,6 +536,7 @@ namespace {
 // per object and side.
 using AlbedoMemo = std::map<std::tuple<size_t, bool, double>, InterfaceAlbedo>;
 using MisMemo = std::map<std::tuple<size_t, bool, double>, InterfaceMisMoments>;
+using LobeMemo = std::map<std::tuple<size_t, bool, double>, InterfaceLobeMoments>;
 
 // E[Y²]/(a·L)² of `strategy` at an interface (the bsdf strategy's from the
 // albedo; the others from dielectric_interface_mis_moments, memoised alike).
@@ -489,10 +561,13 @@ double interface_second_moment(const Scene& scene, Strategy strategy, const Diel
 // that strategy's E[Y²] (direct lighting).
 double glass_pixel(const Scene& scene, const Vec3& origin, const Vec3& direction, int max_segments,
                    TransportConvention convention, bool direct_only, std::optional<Strategy> second_moment,
-                   AlbedoMemo& memo, MisMemo& mis_memo) {
-  const double l_env = scene.environment.radiance;
+                   AlbedoMemo& memo, MisMemo& mis_memo, LobeMemo& lobe_memo) {
   const std::optional<Hit> hit = intersect(scene, origin, direction);
-  if (!hit) return second_moment ? l_env * l_env : l_env;
+  if (!hit) {
+    const double l_miss = environment_radiance(scene.environment, normalize(direction));
+    return second_moment ? l_miss * l_miss : l_miss;
+  }
+  const double l_env = scene.environment.radiance;
   if (max_segments < 2) return 0.0;
   const Object& o = scene.objects[hit->object_index];
   const Dielectric& d = *o.material.as<Dielectric>();
@@ -530,10 +605,35 @@ double glass_pixel(const Scene& scene, const Vec3& origin, const Vec3& direction
   auto it = memo.find(key);
   if (it == memo.end()) it = memo.emplace(key, dielectric_interface_albedo(d, eta, mu, convention)).first;
   const InterfaceAlbedo& e = it->second;
+  const double s = transmission_scale(eta, convention);
+  if (scene.environment.map) {
+    // A sky on one side: each lobe sees its own side's radiance.
+    const InterfaceEnvironment env = interface_environment(scene, in_front ? hit->normal : -hit->normal);
+    if (!second_moment) return a * (env.view * e.reflection + s * env.far * e.transmission);
+    if (*second_moment == Strategy::kBsdf) {
+      auto lit = lobe_memo.find(key);
+      if (lit == lobe_memo.end())
+        lit = lobe_memo.emplace(key, dielectric_interface_lobe_moments(d, eta, mu, convention)).first;
+      const InterfaceLobeMoments& m = lit->second;
+      return a * a * (env.view * env.view * m.reflection + env.far * env.far * m.transmission);
+    }
+    const bool light = *second_moment == Strategy::kLightArea || *second_moment == Strategy::kLightSolidAngle;
+    if (light && d.smooth()) refuse(scene, "light sampling alone cannot find a smooth interface's delta lobe");
+    auto mit = mis_memo.find(key);
+    if (mit == mis_memo.end())
+      mit = mis_memo.emplace(key, dielectric_interface_mis_moments(d, eta, mu, convention, env)).first;
+    const InterfaceMisMoments& m = mit->second;
+    switch (*second_moment) {
+      case Strategy::kMisBalance: return a * a * m.balance;
+      case Strategy::kMisPower: return a * a * m.power;
+      case Strategy::kMisOneSample: return a * a * m.one_sample;
+      default: return a * a * m.light;
+    }
+  }
   if (second_moment)
     return a * a * l_env * l_env *
            interface_second_moment(scene, *second_moment, d, eta, mu, convention, e, key, mis_memo);
-  return a * l_env * (e.reflection + transmission_scale(eta, convention) * e.transmission);
+  return a * l_env * (e.reflection + s * e.transmission);
 }
 
 }  // namespace
@@ -547,12 +647,13 @@ std::vector<double> glass_image(const Scene& scene, int max_segments, TransportC
   std::vector<double> image(size_t(camera.width_px) * size_t(camera.height_px));
   AlbedoMemo memo;
   MisMemo mis_memo;
+  LobeMemo lobe_memo;
   for (int py = 0; py < camera.height_px; ++py)
     for (int px = 0; px < camera.width_px; ++px) {
       const Camera::Ray ray = camera.pixel_center_ray(px, py);
       image[size_t(py) * camera.width_px + px] =
           glass_pixel(scene, ray.origin, ray.direction, max_segments, convention, direct_only, second_moment, memo,
-                      mis_memo);
+                      mis_memo, lobe_memo);
     }
   return image;
 }

@@ -24,6 +24,10 @@
 //    by one leaves the plane and meets nothing else (every path has at most
 //    two segments), so direct lighting is all there is:
 //       L_px = a L (E_R + s E_T)   for S ≥ 2 (0 for S = 1),
+//    or, under a sky on one side (a lat-long map constant on each hemisphere
+//    of the plane, which must be z = const: radiance L_v on the viewer's
+//    side, L_f on the far side), L_px = a (L_v E_R + s L_f E_T): the sky
+//    seen by reflection alone, or by transmission alone;
 //    E_R, E_T the interface's directional albedos of reflection and
 //    transmission at the view (below), s = 1/η′² in the radiance convention
 //    (η′ the far side's index relative to the camera's side), 1 in none.
@@ -48,7 +52,9 @@
 //    range), each piece in a variable that smooths a square-root end.
 // The second moment of one BSDF sample of unit radiance, E[w²]:
 //  - smooth: a²(R + T s²);
-//  - rough: a²∫ D_ωo(m)[F (G2/G1)² 1_R + (1 − F)(s G2/G1)² 1_T] dm.
+//  - rough: a²∫ D_ωo(m)[F (G2/G1)² 1_R + (1 − F)(s G2/G1)² 1_T] dm;
+// under a sky on one side, the two lobes' shares weighted by L_v² and L_f²
+// (dielectric_interface_lobe_moments).
 //
 // Domain: η in [scene_limits::kMinDielectricEta, kMaxDielectricEta], η ≠ 1,
 // α = 0 or in [kMinGgxAlpha, 1], μ in (0, 1]. Accuracy: the quadrature's
@@ -83,6 +89,25 @@ struct InterfaceAlbedo {
 InterfaceAlbedo dielectric_interface_albedo(const Dielectric& d, double eta, double mu,
                                             TransportConvention convention);
 
+// InterfaceAlbedo::second_moment split by lobe: the reflected samples' share
+// and the transmitted ones' (with s²); they sum to it.
+struct InterfaceLobeMoments {
+  double reflection = 0, transmission = 0;
+};
+InterfaceLobeMoments dielectric_interface_lobe_moments(const Dielectric& d, double eta, double mu,
+                                                       TransportConvention convention);
+
+// The environment an interface sees: radiance `view` on the viewer's side,
+// `far` on the far side, and how the renderer's light sampler draws it:
+// cosine-weighted on either side for a constant environment (p_l =
+// |cos θi|/(2π)), or by a lat-long map's texels, which for a map constant
+// on each hemisphere is uniform on each side in proportion to its radiance
+// (p_l = L_side/(2π(L_view + L_far))).
+struct InterfaceEnvironment {
+  double view = 1, far = 1;
+  bool map = false;
+};
+
 // E[Y²] of the MIS strategies and of light sampling alone at the interface of
 // dielectric_interface_albedo, under a constant environment of radiance 1
 // (albedo 1), as the renderer draws them: light samples cosine-weighted on
@@ -104,8 +129,18 @@ struct InterfaceMisMoments {
   // (0 for a smooth interface), propagated through the sums and products.
   double balance_bound = 0, power_bound = 0, one_sample_bound = 0, light_bound = 0;
 };
+// Under `environment` (default: constant, radiance 1) the moments are in its
+// radiance squared; `mean` is E[Y] = L_v·E_R + s·L_f·E_T.
 InterfaceMisMoments dielectric_interface_mis_moments(const Dielectric& d, double eta, double mu,
-                                                     TransportConvention convention);
+                                                     TransportConvention convention,
+                                                     const InterfaceEnvironment& environment = {});
+
+// The environment seen at a planar interface of a glass scene (kind 2) by a
+// viewer on the side `view_normal` points to: the constant environment's
+// radiance on both sides, or a sky on one side's two hemisphere radiances.
+// Throws furnace::Error when the environment is neither (glass_scene_refusal
+// says so first).
+InterfaceEnvironment interface_environment(const Scene& scene, const Vec3& view_normal);
 
 // The convention's factor s on transmitted radiance for relative index eta.
 double transmission_scale(double eta, TransportConvention convention);

@@ -5,11 +5,19 @@
 // brighter than the sky, 40° from the zenith. Piecewise constant by design
 // (the references integrate it texel by texel).
 //
-// Usage: make_environment_map <output.exr>. Deterministic: no randomness,
-// values are computed in double and written as 32-bit floats, so rerunning it
-// reproduces the committed file texel for texel (tests/core checks that).
+// With --sky-above it writes scenes/sky_above.exr instead, the map of the
+// glass_sky_* scenes: a sky on one side, 1 on the upper hemisphere (z > 0)
+// and 0 on the lower, 4×2 texels (the equator a row edge), so a glass plane
+// z = const sees it by reflection from above and by transmission from below
+// (analytic/glass.h).
+//
+// Usage: make_environment_map [--sky-above] <output.exr>. Deterministic: no
+// randomness, values are computed in double and written as 32-bit floats, so
+// rerunning it reproduces the committed file texel for texel (tests/core
+// checks that).
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 
 #include "core/environment_map.h"
@@ -24,13 +32,30 @@ constexpr double kGround = 0.1;    // below the horizon (lights only tilted rece
 constexpr double kSun = 100.0;     // ~100× the sky, so importance sampling matters
 // The sun's texels: rows 7–8 (θ ∈ [39.4°, 50.6°]), columns 10–11 (φ ∈ [56°, 67.5°]).
 constexpr int kSunRow = 7, kSunColumn = 10, kSunSize = 2;
+// The sky-above map's columns.
+constexpr int kSkyWidth = 4;
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: %s <output.exr>\n", argv[0]);
+  const bool sky_above = argc == 3 && std::strcmp(argv[1], "--sky-above") == 0;
+  if (argc != 2 && !sky_above) {
+    std::fprintf(stderr, "usage: %s [--sky-above] <output.exr>\n", argv[0]);
     return 2;
+  }
+  if (sky_above) {
+    furnace::LatLongMap sky;
+    sky.width = kSkyWidth;
+    sky.height = 2;
+    sky.texels.assign(size_t(kSkyWidth), 1.0);
+    sky.texels.resize(size_t(2 * kSkyWidth), 0.0);
+    try {
+      furnace::write_latlong_exr(argv[2], sky);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "%s\n", e.what());
+      return 1;
+    }
+    return 0;
   }
   furnace::LatLongMap map;
   map.width = kWidth;

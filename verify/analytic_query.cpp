@@ -225,7 +225,7 @@ std::string answer_glass_light_query(const Scene& original, const AnalyticQuery&
 }
 
 // A dielectric receiver (analytic/glass.h): in a glass scene of planar
-// interfaces under a constant environment, the radiance toward the view
+// interfaces under a constant environment (or a sky on one side), the radiance toward the view
 // (from either side: a view behind the object's front normal looks from
 // inside, where the far side's relative index is 1/η) in the query's
 // transport convention, a·L·(E_R + s·E_T), and the second moments of bsdf,
@@ -261,11 +261,19 @@ std::string answer_dielectric_query(const Scene& original, const AnalyticQuery& 
   const analytic::InterfaceAlbedo e = analytic::dielectric_interface_albedo(d, eta, mu, q.convention);
   const double a = object.material.albedo, l_env = scene.environment.radiance;
   const double s = analytic::transmission_scale(eta, q.convention);
-  const double radiance = a * l_env * (e.reflection + s * e.transmission);
+  // A sky on one side (a map constant on each hemisphere): each lobe sees
+  // its own side's radiance.
+  const analytic::InterfaceEnvironment env = analytic::interface_environment(scene, inside ? -front : front);
+  const double radiance = env.map ? a * (env.view * e.reflection + s * env.far * e.transmission)
+                                  : a * l_env * (e.reflection + s * e.transmission);
   const double relative_bound = (d.smooth() ? 0.0 : analytic::kGlassQuadratureTolerance) +
                                 64 * std::numeric_limits<double>::epsilon();
   const double radiance_bound = relative_bound * std::fabs(radiance);
-  const double m2 = a * a * l_env * l_env * e.second_moment;
+  double m2 = a * a * l_env * l_env * e.second_moment;
+  if (env.map) {
+    const analytic::InterfaceLobeMoments lobes = analytic::dielectric_interface_lobe_moments(d, eta, mu, q.convention);
+    m2 = a * a * (env.view * env.view * lobes.reflection + env.far * env.far * lobes.transmission);
+  }
   const double m2_bound = relative_bound * m2;
   const nlohmann::ordered_json bsdf = bsdf_json(object.material);
   nlohmann::ordered_json j = view_query_json(scene, q, object.name, bsdf, view);
@@ -275,6 +283,13 @@ std::string answer_dielectric_query(const Scene& original, const AnalyticQuery& 
   j["reflection_albedo_error_bound"] = relative_bound * e.reflection;
   j["transmission_albedo"] = e.transmission;
   j["transmission_albedo_error_bound"] = relative_bound * e.transmission;
+  if (env.map) {
+    // radiance × texel: one rounding.
+    j["environment_radiance_view_side"] = env.view;
+    j["environment_radiance_view_side_error_bound"] = std::numeric_limits<double>::epsilon() * env.view;
+    j["environment_radiance_far_side"] = env.far;
+    j["environment_radiance_far_side_error_bound"] = std::numeric_limits<double>::epsilon() * env.far;
+  }
   j["radiance"] = radiance;
   j["radiance_error_bound"] = radiance_bound;
   std::string text = fmt::format(
@@ -286,6 +301,11 @@ std::string answer_dielectric_query(const Scene& original, const AnalyticQuery& 
       scene.name, q.point.x, q.point.y, q.point.z, q.normal.x, q.normal.y, q.normal.z, object.name, bsdf_text(bsdf),
       view.direction.x, view.direction.y, view.direction.z, view.source, inside ? "inside" : "outside", eta,
       transport_convention_name(q.convention), e.reflection, e.transmission, s, radiance, radiance_bound);
+  if (env.map)
+    text.insert(text.find("radiance L toward"),
+                fmt::format("sky on one side: environment radiance {:.17g} on the view's side, {:.17g} on the far "
+                            "side\n",
+                            env.view, env.far));
   // The MIS strategies (and light sampling alone at a rough interface) under
   // the constant environment: dielectric_interface_mis_moments.
   std::vector<Strategy> defaults{Strategy::kBsdf, Strategy::kMisBalance, Strategy::kMisPower,
@@ -296,8 +316,10 @@ std::string answer_dielectric_query(const Scene& original, const AnalyticQuery& 
     if (strategy == Strategy::kBsdf) return BoundedValue{m2, m2_bound};
     if (std::find(defaults.begin(), defaults.end(), strategy) == defaults.end())
       throw Error("the second moment of this estimator at a dielectric is not modelled");
-    if (!mis) mis = analytic::dielectric_interface_mis_moments(d, eta, mu, q.convention);
-    const double scale = a * a * l_env * l_env;
+    if (!mis)
+      mis = env.map ? analytic::dielectric_interface_mis_moments(d, eta, mu, q.convention, env)
+                    : analytic::dielectric_interface_mis_moments(d, eta, mu, q.convention);
+    const double scale = env.map ? a * a : a * a * l_env * l_env;
     const double round_off = 64 * std::numeric_limits<double>::epsilon();
     const auto bounded = [&](double value, double bound) {
       return BoundedValue{scale * value, scale * (bound + round_off * value)};

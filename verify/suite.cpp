@@ -167,6 +167,13 @@ std::vector<Case> builtin_suite(Suite suite, int spp, uint64_t seed, int threads
       {"glass_rough_normal.json", glass, kUnlimitedDepth},
       {"glass_rough_outside_60.json", glass, kUnlimitedDepth},
       {"glass_rough_inside_45.json", glass, kUnlimitedDepth},
+      // A sky on one side (sky_above.exr, 1 above the glass plane, 0 below):
+      // from above the strips (smooth, α 0.1, 0.3, 1) show the sky by
+      // reflection alone, from below by transmission alone, so each lobe's
+      // albedo is checked on its own; the MIS cases with the map's light
+      // sampler (uniform over the lit hemisphere).
+      {"glass_sky_outside_60.json", glass, kUnlimitedDepth},
+      {"glass_sky_inside_30.json", glass, kUnlimitedDepth},
       // A disk light inside rough glass, seen from outside through the
       // interface at 45° (glass_light.h's reference): MIS and light sampling
       // through a transmission are what see f and pdf both without η′²

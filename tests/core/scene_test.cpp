@@ -303,6 +303,21 @@ TEST_F(EnvironmentMapLoader, RejectsNonFiniteTexel) {
   expect_rejected(write_scene("inf.exr"), {"environment.map", "inf.exr", "row 0, column 0", "inf"});
 }
 
+// The committed scenes/sky_above.exr is what scripts/make_environment_map.cpp
+// --sky-above writes: 1 above the horizon, 0 below.
+TEST_F(EnvironmentMapLoader, CommittedSkyAboveMapIsReproducibleFromItsGenerator) {
+  const auto regenerated = dir_ / "sky_above.exr";
+  const std::string command = std::string(FURNACE_MAKE_ENVIRONMENT_MAP) + " --sky-above " + regenerated.string();
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  const LatLongMap committed = load_latlong_exr(std::string(FURNACE_SCENE_DIR) + "/sky_above.exr");
+  const LatLongMap fresh = load_latlong_exr(regenerated);
+  EXPECT_EQ(committed.width, fresh.width);
+  EXPECT_EQ(committed.height, fresh.height);
+  EXPECT_EQ(committed.texels, fresh.texels);
+  EXPECT_EQ(committed.lookup({0, 0.6, 0.8}), 1.0);
+  EXPECT_EQ(committed.lookup({0, 0.6, -0.8}), 0.0);
+}
+
 // The committed scenes/environment_map.exr is what scripts/make_environment_map.cpp writes.
 TEST_F(EnvironmentMapLoader, CommittedMapIsReproducibleFromItsGenerator) {
   const auto regenerated = dir_ / "regenerated.exr";

@@ -23,8 +23,13 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
+#include <vector>
 
+#include "analytic/glass.h"
+#include "core/environment_map.h"
+#include "core/fresnel.h"
 #include "renderer/render.h"
 #include "tests/integration/builtin_case.h"
 #include "verify/harness.h"
@@ -169,6 +174,55 @@ TEST(GlassDiskInside, NoRadianceScalingFails) {
                 v.z);
     EXPECT_FALSE(v.pass) << strategy_name(s);
   }
+}
+
+// A sky on one side (scenes/sky_above.exr: 1 above the horizon, 0 below;
+// analytic/glass.h): from above at 60° the glass shows the sky by reflection
+// alone, from below at 30° by transmission alone. The smooth strip (pixel
+// columns 0–3 from above; 12–15 from below, whose camera's right is −x) by hand: R at cos θ 0.5 and η 1.5 from above; s·(1 − R) at
+// cos θ √3/2 and η 1/1.5 from below, s = 2.25 in the radiance convention and
+// 1 in none. Negative controls: maps that are not constant on each
+// hemisphere, a glass plane that is not z = const and the sphere under a map
+// are refused with their reason.
+TEST(GlassSky, EachLobeSeesItsOwnSide) {
+  const Scene above = load_scene(std::string(FURNACE_SCENE_DIR) + "/glass_sky_outside_60.json");
+  const Scene below = load_scene(std::string(FURNACE_SCENE_DIR) + "/glass_sky_inside_30.json");
+  const int width = above.camera.width_px;
+  for (TransportConvention convention : {TransportConvention::kRadiance, TransportConvention::kNone}) {
+    const std::vector<double> from_above =
+        analytic::glass_reference_image(above, kUnlimitedDepth, convention, /*direct_only=*/false);
+    const std::vector<double> from_below =
+        analytic::glass_reference_image(below, kUnlimitedDepth, convention, /*direct_only=*/false);
+    const double r_above = fresnel_dielectric(0.5, 1.5);
+    const double s = convention == TransportConvention::kRadiance ? 1.5 * 1.5 : 1.0;
+    const double t_below = s * (1 - fresnel_dielectric(std::sqrt(3.0) / 2, 1 / 1.5));
+    for (int y = 0; y < above.camera.height_px; ++y)
+      for (int x = 0; x < 4; ++x) {
+        EXPECT_NEAR(from_above[size_t(y * width + x)], r_above, 1e-15) << x << ", " << y;
+        EXPECT_NEAR(from_below[size_t(y * width + 15 - x)], t_below, 4e-15) << x << ", " << y;
+      }
+    // The α = 1 strip (columns 12–15 from above, 0–3 from below): each lobe's
+    // directional albedo alone.
+    const Dielectric& rough = *above.objects[3].material.as<Dielectric>();
+    const double e_r = analytic::dielectric_interface_albedo(rough, 1.5, 0.5, convention).reflection;
+    EXPECT_NEAR(from_above[size_t(14)], e_r, 1e-15);
+    const double e_t =
+        analytic::dielectric_interface_albedo(rough, 1 / 1.5, std::sqrt(3.0) / 2, convention).transmission;
+    EXPECT_NEAR(from_below[size_t(1)], s * e_t, 1e-14);
+  }
+  const auto refusal = [](Scene scene, const char* map_file) {
+    scene.environment.map = std::make_shared<LatLongMap>(load_latlong_exr(std::string(FURNACE_SCENE_DIR) + "/" +
+                                                                          map_file));
+    scene.environment.map_file = map_file;
+    return analytic::glass_scene_refusal(scene).value_or("");
+  };
+  EXPECT_EQ(refusal(above, "sky_above.exr"), "");
+  EXPECT_NE(refusal(above, "environment_map.exr").find("not constant on each hemisphere"), std::string::npos);
+  Scene tilted = above;
+  for (Object& o : tilted.objects) std::get<Rectangle>(o.shape).edge_v = {0, 8, 0.1};
+  EXPECT_NE(refusal(tilted, "sky_above.exr").find("not z = const"), std::string::npos);
+  const Scene sphere = load_scene(std::string(FURNACE_SCENE_DIR) + "/glass_sphere.json");
+  EXPECT_NE(refusal(sphere, "sky_above.exr").find("is a map"), std::string::npos);
 }
 
 TEST(GlassDefect, NoneChangesALambertianOrFresnelFreeGgxScene) {

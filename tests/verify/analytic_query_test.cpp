@@ -228,6 +228,33 @@ TEST(AnalyticQueryDielectric, ExplicitViewFromEitherSideAgainstFresnelByHand) {
   EXPECT_GT(std::fabs(radiance() - (r60 + (1 - r60) / 2.25)), 1e-3);
 }
 
+// A sky on one side (glass_sky_inside_30: radiance 1 above the plane, 0
+// below): at the smooth strip, from above at 60° only the reflection R shows
+// the sky, from below at 30° only the transmission 2.25·(1 − R′), by hand;
+// the bsdf strategy's E[Y²] is the lit lobe's alone. Negative control: the
+// same views under the constant environment see both lobes.
+TEST(AnalyticQueryDielectric, SkyOnOneSideShowsOneLobeFromEachSide) {
+  Scene scene = load_scene(std::string(FURNACE_SCENE_DIR) + "/glass_sky_inside_30.json");
+  AnalyticQuery q;
+  q.point = {-0.9, 0.2, 0};  // the smooth strip
+  q.normal = {0, 0, 1};
+  const auto answer = [&] { return nlohmann::json::parse(answer_analytic_query(scene, q, true)); };
+  const double c30 = std::sqrt(3.0) / 2;
+  const double t30 = 2.25 * (1 - textbook_fresnel(c30, 1 / 1.5));
+  const nlohmann::json below = answer();  // the camera's view, from below at 30°
+  EXPECT_NEAR(below["radiance"].get<double>(), t30, 1e-14);
+  EXPECT_EQ(below["environment_radiance_view_side"], 0.0);
+  EXPECT_EQ(below["environment_radiance_far_side"], 1.0);
+  EXPECT_NEAR(below["estimators"]["bsdf"]["second_moment"].get<double>(), 2.25 * t30, 1e-13);
+  q.view = Vec3(0, -c30, 0.5);  // from above at 60°
+  const double r60 = textbook_fresnel(0.5, 1.5);
+  EXPECT_NEAR(answer()["radiance"].get<double>(), r60, 1e-15);
+  scene.environment.map.reset();
+  EXPECT_NEAR(answer()["radiance"].get<double>(), r60 + (1 - r60) / 2.25, 1e-14);
+  q.view.reset();
+  EXPECT_GT(std::fabs(answer()["radiance"].get<double>() - t30), 0.01);
+}
+
 // A rough interface's answer is the directional albedos of analytic/glass.h,
 // bounded by their quadrature tolerance; a glass sphere is refused at a point.
 TEST(AnalyticQueryDielectric, RoughInterfaceAndSphere) {
