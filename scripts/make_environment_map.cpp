@@ -35,6 +35,17 @@ constexpr int kSunRow = 7, kSunColumn = 10, kSunSize = 2;
 // The sky-above map's columns.
 constexpr int kSkyWidth = 4;
 
+// Writes the map; the process's exit code (1 with the error on stderr).
+int write(const char* path, const furnace::LatLongMap& map) {
+  try {
+    furnace::write_latlong_exr(path, map);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -49,13 +60,7 @@ int main(int argc, char** argv) {
     sky.height = 2;
     sky.texels.assign(size_t(kSkyWidth), 1.0);
     sky.texels.resize(size_t(2 * kSkyWidth), 0.0);
-    try {
-      furnace::write_latlong_exr(argv[2], sky);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "%s\n", e.what());
-      return 1;
-    }
-    return 0;
+    return write(argv[2], sky);
   }
   furnace::LatLongMap map;
   map.width = kWidth;
@@ -72,11 +77,5 @@ int main(int argc, char** argv) {
       map.texels[size_t(i) * kWidth + j] = value;
     }
   }
-  try {
-    furnace::write_latlong_exr(argv[1], map);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s\n", e.what());
-    return 1;
-  }
-  return 0;
+  return write(argv[1], map);
 }

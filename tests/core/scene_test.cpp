@@ -303,31 +303,30 @@ TEST_F(EnvironmentMapLoader, RejectsNonFiniteTexel) {
   expect_rejected(write_scene("inf.exr"), {"environment.map", "inf.exr", "row 0, column 0", "inf"});
 }
 
-// The committed scenes/sky_above.exr is what scripts/make_environment_map.cpp
-// --sky-above writes: 1 above the horizon, 0 below.
-TEST_F(EnvironmentMapLoader, CommittedSkyAboveMapIsReproducibleFromItsGenerator) {
-  const auto regenerated = dir_ / "sky_above.exr";
-  const std::string command = std::string(FURNACE_MAKE_ENVIRONMENT_MAP) + " --sky-above " + regenerated.string();
+// A committed map is what scripts/make_environment_map.cpp writes with
+// `options`, texel for texel.
+void expect_reproducible(const std::filesystem::path& dir, const std::string& options, const std::string& name) {
+  const auto regenerated = dir / ("regenerated_" + name);
+  const std::string command = std::string(FURNACE_MAKE_ENVIRONMENT_MAP) + options + " " + regenerated.string();
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
-  const LatLongMap committed = load_latlong_exr(std::string(FURNACE_SCENE_DIR) + "/sky_above.exr");
+  const LatLongMap committed = load_latlong_exr(std::string(FURNACE_SCENE_DIR) + "/" + name);
   const LatLongMap fresh = load_latlong_exr(regenerated);
-  EXPECT_EQ(committed.width, fresh.width);
-  EXPECT_EQ(committed.height, fresh.height);
-  EXPECT_EQ(committed.texels, fresh.texels);
+  EXPECT_EQ(committed.width, fresh.width) << name;
+  EXPECT_EQ(committed.height, fresh.height) << name;
+  EXPECT_EQ(committed.texels, fresh.texels) << name;
+}
+
+// scenes/sky_above.exr (--sky-above): 1 above the horizon, 0 below.
+TEST_F(EnvironmentMapLoader, CommittedSkyAboveMapIsReproducibleFromItsGenerator) {
+  expect_reproducible(dir_, " --sky-above", "sky_above.exr");
+  const LatLongMap committed = load_latlong_exr(std::string(FURNACE_SCENE_DIR) + "/sky_above.exr");
   EXPECT_EQ(committed.lookup({0, 0.6, 0.8}), 1.0);
   EXPECT_EQ(committed.lookup({0, 0.6, -0.8}), 0.0);
 }
 
-// The committed scenes/environment_map.exr is what scripts/make_environment_map.cpp writes.
+// scenes/environment_map.exr (no option).
 TEST_F(EnvironmentMapLoader, CommittedMapIsReproducibleFromItsGenerator) {
-  const auto regenerated = dir_ / "regenerated.exr";
-  const std::string command = std::string(FURNACE_MAKE_ENVIRONMENT_MAP) + " " + regenerated.string();
-  ASSERT_EQ(std::system(command.c_str()), 0) << command;
-  const LatLongMap committed = load_latlong_exr(std::string(FURNACE_SCENE_DIR) + "/environment_map.exr");
-  const LatLongMap fresh = load_latlong_exr(regenerated);
-  EXPECT_EQ(committed.width, fresh.width);
-  EXPECT_EQ(committed.height, fresh.height);
-  EXPECT_EQ(committed.texels, fresh.texels);
+  expect_reproducible(dir_, "", "environment_map.exr");
 }
 
 }  // namespace
