@@ -388,6 +388,10 @@ InterfaceMisMoments dielectric_interface_mis_moments(const Dielectric& d, double
     out.mean = l_view * r + l_far * (1 - r) * s;
     return out;
   }
+  if (eta < kMinMisEtaRatio && eta > 1 / kMinMisEtaRatio)
+    throw Error(fmt::format("the MIS and light-sampling second moments at a rough interface are modelled for a "
+                            "relative index at least {} from 1 (by ratio), not {:.17g}",
+                            kMinMisEtaRatio, eta));
   // The light sampler's density toward a lobe's direction (z its cosine on
   // the viewer's side: > 0 reflected, < 0 transmitted).
   const double map_total = 2 * kPi * (l_view + l_far);

@@ -121,6 +121,7 @@ struct InterfaceEnvironment {
 // the light sample's f is 0 and the BSDF sample's weight 1, so balance and
 // power are the bsdf strategy's E[Y²], one-sample that over c; light
 // sampling alone cannot find the delta lobe (light stays 0: not modelled).
+inline constexpr double kMinMisEtaRatio = 1.001;
 struct InterfaceMisMoments {
   double balance = 0, power = 0, one_sample = 0;
   double light = 0;  // light sampling alone (rough only)
@@ -131,6 +132,13 @@ struct InterfaceMisMoments {
 };
 // Under `environment` (default: constant, radiance 1) the moments are in its
 // radiance squared; `mean` is E[Y] = L_v·E_R + s·L_f·E_T.
+// Domain: a rough interface's moments need η ∉ (1/kMinMisEtaRatio,
+// kMinMisEtaRatio); nearer 1 the transmission lobe is narrower than the
+// quadrature resolves within its bound (measured against 50-digit values,
+// tests/analytic/glass_precision_test.cpp: within 1e-13 for |η − 1| ≥ 1e-3,
+// to 2.3e-14 at 1.001; at η 1/1.0001 one-sample, balance and power missed by
+// 1.9e-11 to 8.4e-10, outside the stated 1e-11), and furnace::Error is
+// thrown (verify then tests such a case without a variance model).
 InterfaceMisMoments dielectric_interface_mis_moments(const Dielectric& d, double eta, double mu,
                                                      TransportConvention convention,
                                                      const InterfaceEnvironment& environment = {});

@@ -67,13 +67,15 @@ Values adaptive(const Integrand<Values>& f, const Big& a, const Big& b, const Va
 }
 
 // ∫ f over [cuts.front(), cuts.back()] split at the cuts, each component to
-// `relative_tolerance` of a first estimate (one rule per piece), at most
+// `relative_tolerance` of a first estimate (one rule per piece), or to the
+// absolute `floor` where that is larger (none: nullptr), at most
 // `depth` bisection levels per piece. Each piece [a, b] in t ∈ [0, 1] of
 // x = a + (b − a)(3t² − 2t³), dx = 6(b − a)t(1 − t) dt: a square-root end
 // point (an arc's end as a ring passes a kink, a sphere's rim in the area
 // density, 1 − F at total internal reflection) becomes smooth.
 template <class Values>
-Values integrate(const Integrand<Values>& f, std::vector<Big> cuts, double relative_tolerance, int depth) {
+Values integrate(const Integrand<Values>& f, std::vector<Big> cuts, double relative_tolerance, int depth,
+                 const Values* floor = nullptr) {
   std::sort(cuts.begin(), cuts.end());
   cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
   std::vector<Integrand<Values>> pieces;
@@ -94,7 +96,11 @@ Values integrate(const Integrand<Values>& f, std::vector<Big> cuts, double relat
   }
   Values tolerance;
   const double count = double(std::max<size_t>(pieces.size(), 1));
-  for (size_t c = 0; c < first.size(); ++c) tolerance[c] = Big(relative_tolerance) * abs(first[c]) / count;
+  for (size_t c = 0; c < first.size(); ++c) {
+    tolerance[c] = Big(relative_tolerance) * abs(first[c]);
+    if (floor != nullptr && (*floor)[c] > tolerance[c]) tolerance[c] = (*floor)[c];
+    tolerance[c] /= count;
+  }
   Values sum{};
   for (size_t i = 0; i < pieces.size(); ++i) {
     const Values piece = adaptive(pieces[i], Big(0), Big(1), tolerance, depth, values[i], errors[i]);
