@@ -60,8 +60,8 @@
 // GlassPrecisionSlow.* (the wide grid without MIS, 2 to 140 s a reference,
 // about 24 min; MisOtherViews, the inside views at and beyond the critical
 // angle and a grazing one; MisAtTheDomainsEdge, 230 s: worst 2.3e-14, light
-// at 1.001) are labelled
-// slow. The wide grid has no MIS rows: at 15 to 140 s an MIS reference, hours.
+// at 1.001) are labelled slow. The wide grid has no MIS rows: at 15 to 140 s
+// an MIS reference, hours.
 // Measured (worst over E_R, E_T, R + sT and E[Y²] in both conventions):
 // default: η 1.5 outside 2.9e-16, 1/1.5 inside at and beyond the critical
 // angle 2.0e-16, η 1.0001 and 1/1.0001 5.0e-16; slow: η 1.5 outside, α 0.01
