@@ -542,16 +542,30 @@ using AlbedoMemo = std::map<std::tuple<size_t, bool, double>, InterfaceAlbedo>;
 using MisMemo = std::map<std::tuple<size_t, bool, double>, InterfaceMisMoments>;
 using LobeMemo = std::map<std::tuple<size_t, bool, double>, InterfaceLobeMoments>;
 
-// E[Y²]/(a·L)² of `strategy` at an interface (the bsdf strategy's from the
-// albedo; the others from dielectric_interface_mis_moments, memoised alike).
+// E[Y²]/a² of `strategy` at an interface under `env`: for a constant
+// environment in units of L² (the caller multiplies by L²: the bsdf
+// strategy's from the albedo, the others from
+// dielectric_interface_mis_moments at unit radiance); under a sky on one
+// side in absolute units (bsdf's from the lobes' shares, the others under
+// the map's light density). Memoised per (object, side, μ).
 double interface_second_moment(const Scene& scene, Strategy strategy, const Dielectric& d, double eta, double mu,
                                TransportConvention convention, const InterfaceAlbedo& albedo,
-                               const std::tuple<size_t, bool, double>& key, MisMemo& memo) {
-  if (strategy == Strategy::kBsdf) return albedo.second_moment;
+                               const InterfaceEnvironment& env, const std::tuple<size_t, bool, double>& key,
+                               MisMemo& memo, LobeMemo& lobe_memo) {
+  if (strategy == Strategy::kBsdf) {
+    if (!env.map) return albedo.second_moment;
+    auto it = lobe_memo.find(key);
+    if (it == lobe_memo.end())
+      it = lobe_memo.emplace(key, dielectric_interface_lobe_moments(d, eta, mu, convention)).first;
+    return env.view * env.view * it->second.reflection + env.far * env.far * it->second.transmission;
+  }
   const bool light = strategy == Strategy::kLightArea || strategy == Strategy::kLightSolidAngle;
   if (light && d.smooth()) refuse(scene, "light sampling alone cannot find a smooth interface's delta lobe");
   auto it = memo.find(key);
-  if (it == memo.end()) it = memo.emplace(key, dielectric_interface_mis_moments(d, eta, mu, convention)).first;
+  if (it == memo.end())
+    it = memo.emplace(key, env.map ? dielectric_interface_mis_moments(d, eta, mu, convention, env)
+                                   : dielectric_interface_mis_moments(d, eta, mu, convention))
+             .first;
   const InterfaceMisMoments& m = it->second;
   switch (strategy) {
     case Strategy::kMisBalance: return m.balance;
@@ -610,33 +624,14 @@ double glass_pixel(const Scene& scene, const Vec3& origin, const Vec3& direction
   if (it == memo.end()) it = memo.emplace(key, dielectric_interface_albedo(d, eta, mu, convention)).first;
   const InterfaceAlbedo& e = it->second;
   const double s = transmission_scale(eta, convention);
-  if (scene.environment.map) {
-    // A sky on one side: each lobe sees its own side's radiance.
-    const InterfaceEnvironment env = interface_environment(scene, in_front ? hit->normal : -hit->normal);
-    if (!second_moment) return a * (env.view * e.reflection + s * env.far * e.transmission);
-    if (*second_moment == Strategy::kBsdf) {
-      auto lit = lobe_memo.find(key);
-      if (lit == lobe_memo.end())
-        lit = lobe_memo.emplace(key, dielectric_interface_lobe_moments(d, eta, mu, convention)).first;
-      const InterfaceLobeMoments& m = lit->second;
-      return a * a * (env.view * env.view * m.reflection + env.far * env.far * m.transmission);
-    }
-    const bool light = *second_moment == Strategy::kLightArea || *second_moment == Strategy::kLightSolidAngle;
-    if (light && d.smooth()) refuse(scene, "light sampling alone cannot find a smooth interface's delta lobe");
-    auto mit = mis_memo.find(key);
-    if (mit == mis_memo.end())
-      mit = mis_memo.emplace(key, dielectric_interface_mis_moments(d, eta, mu, convention, env)).first;
-    const InterfaceMisMoments& m = mit->second;
-    switch (*second_moment) {
-      case Strategy::kMisBalance: return a * a * m.balance;
-      case Strategy::kMisPower: return a * a * m.power;
-      case Strategy::kMisOneSample: return a * a * m.one_sample;
-      default: return a * a * m.light;
-    }
+  // A constant environment, or a sky on one side: each lobe sees its own side's radiance.
+  const InterfaceEnvironment env = interface_environment(scene, in_front ? hit->normal : -hit->normal);
+  if (second_moment) {
+    const double m2 =
+        interface_second_moment(scene, *second_moment, d, eta, mu, convention, e, env, key, mis_memo, lobe_memo);
+    return env.map ? a * a * m2 : a * a * l_env * l_env * m2;
   }
-  if (second_moment)
-    return a * a * l_env * l_env *
-           interface_second_moment(scene, *second_moment, d, eta, mu, convention, e, key, mis_memo);
+  if (env.map) return a * (env.view * e.reflection + s * env.far * e.transmission);
   return a * l_env * (e.reflection + s * e.transmission);
 }
 

@@ -1,6 +1,8 @@
 #include "cli/check_command.h"
 
+#include <cstddef>
 #include <cstdio>
+#include <iterator>
 #include <map>
 #include <string>
 #include <vector>
@@ -69,19 +71,16 @@ int run_check(const CheckCommandOptions& options) {
     const std::string scene_hash = file_content_hash(options.scene_path);
     const verify::CheckReference reference = verify::check_reference(scene, options.max_depth, options.convention);
     verify::require_finite_reference(reference.values, scene);
+    // The checked images, then the guard's: a guard image that copies a
+    // checked one (or another guard image) is not an independent render.
     std::vector<verify::ForeignImage> images;
-    for (const std::string& path : options.image_paths)
-      images.push_back(verify::read_foreign_image(path, scene, options.channels));
-    std::vector<verify::ForeignImage> guard;
-    for (const std::string& path : options.guard_paths)
-      guard.push_back(verify::read_foreign_image(path, scene, options.channels));
-    {
-      // A guard image that copies a checked one (or another guard image) is
-      // not an independent render.
-      std::vector<verify::ForeignImage> all = images;
-      all.insert(all.end(), guard.begin(), guard.end());
-      verify::reject_identical_images(all, reference.values);
-    }
+    for (const std::vector<std::string>* paths : {&options.image_paths, &options.guard_paths})
+      for (const std::string& path : *paths) images.push_back(verify::read_foreign_image(path, scene, options.channels));
+    verify::reject_identical_images(images, reference.values);
+    const auto first_guard = images.begin() + std::ptrdiff_t(options.image_paths.size());
+    const std::vector<verify::ForeignImage> guard(std::make_move_iterator(first_guard),
+                                                  std::make_move_iterator(images.end()));
+    images.erase(first_guard, images.end());
     const verify::CheckResult r =
         verify::check_images(images, reference.values, options.alpha, options.max_detectable_bias, guard);
     const std::vector<std::string> warnings = verify::provenance_warnings(scene, scene_hash, images, reference);

@@ -70,18 +70,6 @@ int images_needed(DetectableCache& cache, double sd, double reference_mean, doub
                                    kMaxAdvisedImages);
 }
 
-// The images' samples per pixel: the spp their headers state (furnace's,
-// pbrt-v4's or Blender's attribute) when every image states the same, else
-// the median N of a furnace EXR, else 0 (unknown).
-double known_spp(const std::vector<ForeignImage>& images) {
-  const std::string first = images[0].stated_spp;
-  bool same = !first.empty();
-  for (const ForeignImage& img : images) same = same && img.stated_spp == first;
-  if (same) return std::stod(first);
-  if (!images[0].count.empty()) return stats::median(images[0].count);
-  return 0;
-}
-
 // Throws furnace::Error unless the images carry error bars: K ≥ 2 renders,
 // or one furnace EXR with N ≥ 2 at every one of its n pixels.
 void require_error_bars(const std::vector<ForeignImage>& images, size_t n) {
@@ -202,8 +190,8 @@ GuardedTest guarded_test(const Estimate& checked, const Estimate& guard, double 
   double v = checked.variance_of_mean;
   g.dof = checked.dof;
   if (checked.mean < reference && guard.variance_of_mean > 0 && checked.samples > 0) {
-    const double b = spread_lower_bound_factor(guard.dof, kSpreadConfidence);
-    const double floor = b * b * guard.variance_of_mean * guard.samples / checked.samples;
+    const double floor =
+        rare_event_variance_floor(guard.variance_of_mean, guard.dof, guard.samples, checked.samples);
     if (floor > v) {
       v = floor;
       g.dof = guard.dof;
@@ -231,16 +219,14 @@ void note_held(CheckGuard& guard, const std::string& what, const std::string& ch
   guard.worst_held_t = plain_t;
   guard.worst_held_guarded_t = g.statistic;
   guard.worst_held_threshold = critical_statistic(g.dof, alpha);
-  const double ratio = detectable_noncentrality(g.dof, alpha, stats::kReportedPower) / std::fabs(g.statistic);
-  guard.worst_held_spp_factor = std::isfinite(ratio) ? ratio * ratio : kInf;
+  guard.worst_held_spp_factor = held_spp_factor(g.statistic, g.dof, alpha, stats::kReportedPower);
 }
 
 // The pixel tests of channel c at level alpha_pixel: each pixel's t into
 // pixel_t and `candidates`, the failures, untested pixels and pixel power
-// into cc.
-// A pixel that rejects below the reference is tested again under the
-// rare-event guard when there is one (held when that does not reject), and
-// flags `rejected_below` when there is none.
+// into cc. A pixel that rejects below the reference is tested again under
+// the rare-event guard when there is one (held when that does not reject),
+// and flags `rejected_below` when there is none.
 void test_pixels(const ChannelPixels& p, const std::vector<double>& reference, size_t c, double alpha_pixel,
                  DetectableCache& pixel_power, const GuardSide& guard_side, CheckGuard& guard, bool& rejected_below,
                  ChannelCheck& cc, std::vector<double>& pixel_t, std::vector<Candidate>& candidates) {
@@ -360,31 +346,6 @@ void guard_image_mean(const ChannelPixels& p, const GuardSide& guard_side, doubl
   note_held(guard, "image mean", cc.channel, cc.statistic, g, alpha_mean);
 }
 
-// The spp per render the guard takes for the checked and the guard images
-// (0 for one furnace EXR: its N counts the samples), and what it assumed
-// for a side whose files state none: the other side's, or equal spp.
-void guard_spp(const std::vector<ForeignImage>& images, const std::vector<ForeignImage>& guard_images,
-               CheckGuard& guard) {
-  const bool checked_exr = images.size() == 1, guard_exr = guard_images.size() == 1;
-  guard.checked_spp = checked_exr ? 0 : known_spp(images);
-  guard.guard_spp = guard_exr ? 0 : known_spp(guard_images);
-  if (!checked_exr && !guard_exr && guard.checked_spp == 0 && guard.guard_spp == 0) {
-    guard.checked_spp = guard.guard_spp = 1;
-    guard.assumption = "neither the images nor the guard images state their spp: the guard takes them as equal";
-    return;
-  }
-  if (!checked_exr && guard.checked_spp == 0) {
-    guard.checked_spp = guard_exr ? stats::median(guard_images[0].count) : guard.guard_spp;
-    guard.assumption =
-        fmt::format("the images state no spp: the guard takes them at the guard images' {:.6g}", guard.checked_spp);
-  }
-  if (!guard_exr && guard.guard_spp == 0) {
-    guard.guard_spp = checked_exr ? stats::median(images[0].count) : guard.checked_spp;
-    guard.assumption =
-        fmt::format("the guard images state no spp: the guard takes them at the images' {:.6g}", guard.guard_spp);
-  }
-}
-
 // The advice's bounds over the channels whose image-mean test lacks power
 // (CheckAdvice): the same test with more images or samples.
 struct AdviceBounds {
@@ -494,7 +455,13 @@ CheckResult check_images(const std::vector<ForeignImage>& images, const std::vec
   AdviceBounds advice;
   const int advised_k = std::max(int(k), kAdvisedImages);
   r.guard.guard_images = int(guard_images.size());
-  if (!guard_images.empty()) guard_spp(images, guard_images, r.guard);
+  if (!guard_images.empty()) {
+    const GuardSpp g = guard_spp(images, guard_images, "the images'", "the guard images'",
+                                 "neither the images' nor the guard images'");
+    r.guard.checked_spp = g.a;
+    r.guard.guard_spp = g.b;
+    r.guard.assumption = g.assumption;
+  }
   for (size_t c = 0; c < channels; ++c) {
     const ChannelPixels pixels = channel_pixels(images, c, reference);
     std::optional<ChannelPixels> guard_pixels;
@@ -539,7 +506,7 @@ CheckResult check_images(const std::vector<ForeignImage>& images, const std::vec
     r.advice.advised_images = advised_k;
     r.advice.spp_factor_at_advised_images = advice.spp_factor_advised;
     r.advice.spp_factor_at_current_images = advice.spp_factor_current;
-    r.advice.current_spp = known_spp(images);
+    r.advice.current_spp = images_spp(images);
   }
   r.verdict = rejected ? CheckVerdict::kFail
                        : (r.guard.held.empty() && r.image_mean_has_power ? CheckVerdict::kPass

@@ -210,4 +210,36 @@ bool any_half_float(const std::vector<ForeignImage>& images) {
   return std::any_of(images.begin(), images.end(), [](const ForeignImage& img) { return img.half_float; });
 }
 
+double images_spp(const std::vector<ForeignImage>& images) {
+  const std::string& first = images[0].stated_spp;
+  bool same = !first.empty();
+  for (const ForeignImage& img : images) same = same && img.stated_spp == first;
+  if (same) return std::stod(first);
+  if (!images[0].count.empty()) return stats::median(images[0].count);
+  return 0;
+}
+
+GuardSpp guard_spp(const std::vector<ForeignImage>& a, const std::vector<ForeignImage>& b, const std::string& a_owner,
+                   const std::string& b_owner, const std::string& neither) {
+  const bool a_exr = a.size() == 1, b_exr = b.size() == 1;
+  GuardSpp g;
+  g.a = a_exr ? 0 : images_spp(a);
+  g.b = b_exr ? 0 : images_spp(b);
+  if (!a_exr && !b_exr && g.a == 0 && g.b == 0) {
+    g.a = g.b = 1;
+    g.assumption = neither + " files state their spp: the rare-event guard takes them as equal";
+    return g;
+  }
+  const auto assume = [&](bool exr, double& spp, const std::vector<ForeignImage>& other, bool other_exr,
+                          double other_spp, const std::string& owner, const std::string& other_owner) {
+    if (exr || spp > 0) return;
+    spp = other_exr ? images_spp(other) : other_spp;
+    g.assumption = fmt::format("{} files state no spp: the rare-event guard takes them at {} {}, {:.6g}", owner,
+                               other_owner, other_exr ? "median N" : "spp", spp);
+  };
+  assume(a_exr, g.a, b, b_exr, g.b, a_owner, b_owner);
+  assume(b_exr, g.b, a, a_exr, g.a, b_owner, a_owner);
+  return g;
+}
+
 }  // namespace furnace::verify

@@ -88,4 +88,22 @@ NegativeValues count_negative_values(const std::vector<ForeignImage>& images);
 // True when any image stores a tested radiance channel as HALF.
 bool any_half_float(const std::vector<ForeignImage>& images);
 
+// The samples per pixel of a set of renders: the spp their headers state
+// (furnace's, pbrt-v4's or Blender's attribute) when every image states the
+// same, else a furnace EXR's median N, else 0 (unknown).
+double images_spp(const std::vector<ForeignImage>& images);
+
+// The spp per render the rare-event guards (check's --guard, compare's) take
+// for two sets `a` and `b` (0 for a set that is one furnace EXR: its N
+// channel counts the samples), and what they assumed for a set whose files
+// state none: the other set's spp (or median N), or, with neither stated,
+// equal spp. `a_owner`, `b_owner` name each set's files in the possessive
+// ("side A's", "the images'"); `neither` names both ("neither side's").
+struct GuardSpp {
+  double a = 0, b = 0;
+  std::string assumption;  // empty: nothing assumed
+};
+GuardSpp guard_spp(const std::vector<ForeignImage>& a, const std::vector<ForeignImage>& b, const std::string& a_owner,
+                   const std::string& b_owner, const std::string& neither);
+
 }  // namespace furnace::verify

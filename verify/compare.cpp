@@ -196,14 +196,6 @@ struct GuardedTest {
   double power_standard_error = 0;
 };
 
-// The floor of the lower side's variance of its mean: the higher side's
-// variance per sample at its lower confidence bound, over the lower side's
-// samples.
-double variance_floor(const stats::MeanEstimate& high, double n_high, double n_low) {
-  const double b = spread_lower_bound_factor(high.dof, kSpreadConfidence);
-  return b * b * high.variance_of_mean * n_high / n_low;
-}
-
 GuardedTest guarded_welch(const stats::MeanEstimate& a, double n_a, const stats::MeanEstimate& b, double n_b) {
   GuardedTest g;
   g.plain = g.guarded = welch(a, b);
@@ -213,7 +205,7 @@ GuardedTest guarded_welch(const stats::MeanEstimate& a, double n_a, const stats:
   // carries the d.o.f. of the side it came from.
   const auto floored = [](const stats::MeanEstimate& low, double n_low, const stats::MeanEstimate& high,
                           double n_high) {
-    const double floor = variance_floor(high, n_high, n_low);
+    const double floor = rare_event_variance_floor(high.variance_of_mean, high.dof, n_high, n_low);
     return floor > low.variance_of_mean ? stats::MeanEstimate{low.mean, floor, high.dof} : low;
   };
   const stats::MeanEstimate a_low = floored(a, n_a, b, n_b), b_low = floored(b, n_b, a, n_a);
@@ -233,52 +225,16 @@ void note_held(ChannelComparison& cc, const std::string& what, const GuardedTest
   cc.worst_held_threshold = critical_statistic(g.guarded.dof, alpha);
   // Both sides' samples × f scale the guarded t by √f (for a difference that
   // stays): f brings it to the noncentrality found with power kReportedPower.
-  const double ratio =
-      detectable_noncentrality(g.guarded.dof, alpha, stats::kReportedPower) / std::fabs(g.guarded.statistic);
-  cc.worst_held_spp_factor = std::isfinite(ratio) ? ratio * ratio : kInf;
+  cc.worst_held_spp_factor = held_spp_factor(g.guarded.statistic, g.guarded.dof, alpha, stats::kReportedPower);
 }
 
-// The spp of a side's images: the one their headers state (furnace's,
-// pbrt-v4's or Blender's attribute) when all state the same, else a furnace
-// EXR's median N, else 0.
-double side_spp(const CompareSide& side) {
-  const std::string first = side.images[0].stated_spp;
-  bool same = !first.empty();
-  for (const ForeignImage& img : side.images) same = same && img.stated_spp == first;
-  if (same) return std::stod(first);
-  if (side.furnace_variance()) return stats::median(side.images[0].count);
-  return 0;
-}
-
-// The spp per render the rare-event guard takes for each side (0 for a
-// furnace EXR: its N channel counts the samples), and what it assumed for a
-// side whose files state none: the other side's spp, or equal spp when
-// neither side states any.
+// The spp per render the rare-event guard takes for each side, and what it
+// assumed (guard_spp, check_image.h).
 void guard_spp(const CompareSide& a, const CompareSide& b, CompareResult& r) {
-  const auto stated = [](const CompareSide& side) { return side.furnace_variance() ? 0.0 : side_spp(side); };
-  r.guard_spp_a = stated(a);
-  r.guard_spp_b = stated(b);
-  const auto assume = [&](const CompareSide& side, double& spp, const CompareSide& other, double other_spp,
-                          const char* name, const char* other_name) {
-    if (side.furnace_variance() || spp > 0) return;
-    if (other.furnace_variance()) {
-      spp = side_spp(other);
-      r.guard_assumption = fmt::format(
-          "side {}'s files state no spp: the rare-event guard takes them at side {}'s median N, {:.6g}", name,
-          other_name, spp);
-    } else {
-      spp = other_spp;
-      r.guard_assumption = fmt::format(
-          "side {}'s files state no spp: the rare-event guard takes them at side {}'s, {:.6g}", name, other_name, spp);
-    }
-  };
-  if (!a.furnace_variance() && !b.furnace_variance() && r.guard_spp_a == 0 && r.guard_spp_b == 0) {
-    r.guard_spp_a = r.guard_spp_b = 1;
-    r.guard_assumption = "neither side's files state their spp: the rare-event guard takes them as equal";
-    return;
-  }
-  assume(a, r.guard_spp_a, b, r.guard_spp_b, "A", "B");
-  assume(b, r.guard_spp_b, a, r.guard_spp_a, "B", "A");
+  const GuardSpp g = verify::guard_spp(a.images, b.images, "side A's", "side B's", "neither side's");
+  r.guard_spp_a = g.a;
+  r.guard_spp_b = g.b;
+  r.guard_assumption = g.assumption;
 }
 
 void test_image_mean(const SideChannel& a, const SideChannel& b, int width, int height, double alpha,
@@ -604,8 +560,8 @@ CompareResult compare_renders(const CompareSide& a, const CompareSide& b, double
     r.advice.needed = true;
     r.advice.renders_per_side = advice_beyond ? 0 : int(advice_renders);
     r.advice.spp_factor = advice_factor;
-    r.advice.current_spp_a = side_spp(a);
-    r.advice.current_spp_b = side_spp(b);
+    r.advice.current_spp_a = images_spp(a.images);
+    r.advice.current_spp_b = images_spp(b.images);
   }
   r.verdict = !r.rejected.empty() ? CompareVerdict::kDifferent
               : (r.held.empty() && r.image_mean_has_power) ? CompareVerdict::kSame

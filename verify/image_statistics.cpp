@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <exception>
+#include <limits>
 #include <map>
 #include <mutex>
 
@@ -116,6 +117,16 @@ double spread_lower_bound_factor(double dof, double confidence) {
 double critical_statistic(double dof, double alpha) {
   if (!std::isfinite(dof)) return stats::normal_upper_quantile(alpha / 2);
   return boost::math::quantile(boost::math::complement(boost::math::students_t_distribution<double>(dof), alpha / 2));
+}
+
+double rare_event_variance_floor(double variance_of_mean, double dof, double samples, double floored_samples) {
+  const double b = spread_lower_bound_factor(dof, kSpreadConfidence);
+  return b * b * variance_of_mean * samples / floored_samples;
+}
+
+double held_spp_factor(double guarded_statistic, double dof, double alpha, double power) {
+  const double ratio = detectable_noncentrality(dof, alpha, power) / std::fabs(guarded_statistic);
+  return std::isfinite(ratio) ? ratio * ratio : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace furnace::verify

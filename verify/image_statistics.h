@@ -54,4 +54,15 @@ double spread_lower_bound_factor(double dof, double confidence);
 // `dof` d.o.f., the normal quantile for dof = +inf.
 double critical_statistic(double dof, double alpha);
 
+// The rare-event guards' floor (compare.h, check.h): a variance of the mean
+// `variance_of_mean` estimated from `dof` d.o.f. over `samples` samples,
+// taken per sample at the lower kSpreadConfidence bound of its spread and
+// spread over `floored_samples` samples: b²·variance_of_mean·samples/floored_samples.
+double rare_event_variance_floor(double variance_of_mean, double dof, double samples, double floored_samples);
+// The factor on the samples at which a held test's floored statistic
+// `guarded_statistic` (`dof` d.o.f.) reaches the noncentrality a level-α
+// test detects with probability `power`: (λ/|t|)², as the floored variance
+// falls as 1/samples; +inf for t = 0.
+double held_spp_factor(double guarded_statistic, double dof, double alpha, double power);
+
 }  // namespace furnace::verify

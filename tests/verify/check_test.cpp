@@ -524,9 +524,13 @@ TEST(CheckRareEvent, AMissedRareLightIsHeldNotFailed) {
     fail_guarded += guarded.verdict == CheckVerdict::kFail ? 1 : 0;
     light_held += guarded.guard.worst_held == "pixel (8, 8)" ? 1 : 0;
     // A held test is never PASS (FAIL still wins where another test rejects).
-    if (!guarded.guard.held.empty()) EXPECT_NE(guarded.verdict, CheckVerdict::kPass) << "set " << t;
+    if (!guarded.guard.held.empty()) {
+      EXPECT_NE(guarded.verdict, CheckVerdict::kPass) << "set " << t;
+    }
     // The guard only ever holds: it never turns a plain pass into a failure.
-    if (plain.verdict != CheckVerdict::kFail) EXPECT_NE(guarded.verdict, CheckVerdict::kFail) << "set " << t;
+    if (plain.verdict != CheckVerdict::kFail) {
+      EXPECT_NE(guarded.verdict, CheckVerdict::kFail) << "set " << t;
+    }
   }
   const double p = binomial_upper_tail(fail_guarded, kTrials, alpha);
   std::printf("missed rare light, 8 x 16 spp checked with 8 x 4096 spp guard images: FAIL %zu of %zu with the guard "
@@ -620,7 +624,7 @@ TEST(CheckRareEvent, UnstatedSppIsAssumedAndSaidAndAOneImageGuardNeedsVariance) 
   for (ForeignImage& img : images) img.stated_spp.clear();
   const CheckResult one = check_images(images, reference, kAlpha, 1.0, guard);
   EXPECT_EQ(one.guard.checked_spp, 4096);
-  EXPECT_NE(one.guard.assumption.find("the images state no spp"), std::string::npos) << one.guard.assumption;
+  EXPECT_NE(one.guard.assumption.find("the images' files state no spp"), std::string::npos) << one.guard.assumption;
   for (ForeignImage& img : guard) img.stated_spp.clear();
   const CheckResult none = check_images(images, reference, kAlpha, 1.0, guard);
   EXPECT_EQ(none.guard.checked_spp, 1);
