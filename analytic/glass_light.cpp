@@ -94,6 +94,12 @@ Vec3 GlassTransmissionReceiver::lobe_centre() const {
   return normalize(r_across / eta + n * std::sqrt((1 - sin_t) * (1 + sin_t)));
 }
 
+std::vector<SupportEdge> GlassTransmissionReceiver::support_edges() const {
+  std::vector<SupportEdge> edges{{mirror(), std::fmin(eta, 1 / eta)}};
+  if (mu_o_ / eta < 1) edges.push_back({n, mu_o_ / eta});
+  return edges;
+}
+
 std::vector<double> GlassTransmissionReceiver::parameters() const {
   return {double(BsdfType::kDielectric), albedo, eta, alpha, double(shadowing), double(convention)};
 }

@@ -86,6 +86,11 @@ class GlassTransmissionReceiver final : public ReceiverModel<GlassTransmissionRe
   // The mirrored Snell direction of ωo (the lobe's peak, m = n); r when the
   // macro interface reflects ωo totally.
   Vec3 lobe_centre() const;
+  // The support's edges: the cone cos α = min(η, 1/η) about r (ωo·m = 0
+  // for η > 1, total internal reflection of ωi for η < 1: f falls to 0 at
+  // it) and, when μo/η < 1, the microfacets' rim cos θ = μo/η about n
+  // (n·m = 0: f jumps to 0).
+  std::vector<SupportEdge> support_edges() const;
   bool vanishes_below_mirror_plane() const override { return true; }
   std::vector<double> parameters() const override;
   std::string name() const override { return "a rough dielectric's transmission"; }

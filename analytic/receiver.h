@@ -92,6 +92,14 @@ struct BsdfValue {
   double f_cos2_over_pdf = 0;  // (f·(n·ωi))²/p_b, written by the BSDF without cancelling factors, sr⁻¹
 };
 
+// A circle on the sphere of directions where a receiver's f stops being
+// smooth (an edge of its support, where f falls to 0 with a kink or a jump):
+// the directions ω with axis·ω = cos_angle (axis n or r, unit).
+struct SupportEdge {
+  Vec3 axis;
+  double cos_angle = 0;
+};
+
 // One light as the receiver integrals see it: a sphere (centre relative to
 // the receiving point, which lies outside it), the constant environment, or,
 // when `planar` is set, a disk, rectangle or triangle light (its visible
@@ -166,6 +174,12 @@ class ReceiverModel : public Receiver {
   // hides this when its peak is elsewhere (a refraction lobe seen through
   // the mirror map, glass_light.h).
   Vec3 lobe_centre() const { return this->mirror(); }
+  // The circles where f is not smooth inside the light's region: a planar
+  // light's rays are cut where they cross one, and its outer angle where a
+  // ray touches one (plane_integral), so that no piece spans an edge. None
+  // by default (f smooth above the horizon); R hides this to name them (a
+  // refraction's support, glass_light.h).
+  std::vector<SupportEdge> support_edges() const { return {}; }
   double light_reflectance(const ReceiverLight& light) const final;
   double second_moment(Strategy strategy, const std::vector<ReceiverLight>& lights) const final;
 };

@@ -195,6 +195,65 @@ double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
   return total;
 }
 
+// A support edge (receiver.h) as a planar light's rays meet it: the cone
+// a·ω = k with ω ∝ v = x·s + y·t − h·toward_receiver (receiver_planar.h),
+// a·v = as·x + at·y + ah, crossed where (a·v)² = k²|v|².
+struct EdgeInPlane {
+  double as, at, ah, k2;
+  EdgeInPlane(const SupportEdge& e, const PlanarEmitter& light)
+      : as(dot(e.axis, light.s)),
+        at(dot(e.axis, light.t)),
+        ah(-light.height * dot(e.axis, light.toward_receiver)),
+        k2(e.cos_angle * e.cos_angle) {}
+};
+
+// The real roots of qa·x² + qb·x + qc = 0 (qa may be 0), in the cancellation-free form.
+inline void quadratic_roots(double qa, double qb, double qc, std::vector<double>& out) {
+  if (qa == 0) {
+    if (qb != 0) out.push_back(-qc / qb);
+    return;
+  }
+  const double disc = qb * qb - 4 * qa * qc;
+  if (!(disc >= 0)) return;
+  const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
+  if (q != 0) out.push_back(qc / q);
+  out.push_back(q / qa);
+}
+
+// The ρ in (lo, hi) where the ray (cx, cy) + ρ(c, s) crosses the edge's cone
+// (either nappe: a spurious cut costs one more piece, nothing else).
+inline void edge_crossings(const EdgeInPlane& e, double cx, double cy, double h, double c, double s, double lo,
+                           double hi, std::vector<double>& out) {
+  const double a0 = e.as * cx + e.at * cy + e.ah, a1 = e.as * c + e.at * s;
+  const double v0 = cx * cx + cy * cy + h * h, v1 = cx * c + cy * s;
+  std::vector<double> roots;
+  quadratic_roots(a1 * a1 - e.k2, 2 * (a0 * a1 - e.k2 * v1), a0 * a0 - e.k2 * v0, roots);
+  for (double rho : roots)
+    if (rho > lo && rho < hi) out.push_back(rho);
+}
+
+// The angles φ of the rays from (cx, cy) tangent to the edge's conic in the
+// light's plane: where the crossings' discriminant, a quadratic form
+// q11·c² + 2·q12·c·s + q22·s² in (c, s) = (cos φ, sin φ), vanishes (each
+// line through the centre gives φ and φ + π).
+inline void edge_tangent_angles(const EdgeInPlane& e, double cx, double cy, double h, std::vector<double>& out) {
+  const double a0 = e.as * cx + e.at * cy + e.ah;
+  const double p = a0 * e.as - e.k2 * cx, q = a0 * e.at - e.k2 * cy;
+  const double big_e = a0 * a0 - e.k2 * (cx * cx + cy * cy + h * h);
+  const double q11 = p * p - big_e * (e.as * e.as - e.k2), q12 = p * q - big_e * e.as * e.at,
+               q22 = q * q - big_e * (e.at * e.at - e.k2);
+  std::vector<double> roots;
+  if (std::fabs(q22) >= std::fabs(q11)) {
+    quadratic_roots(q22, 2 * q12, q11, roots);  // tan φ
+    for (double t : roots) out.push_back(std::atan(t));
+  } else {
+    quadratic_roots(q11, 2 * q12, q22, roots);  // cot φ
+    for (double u : roots) out.push_back(std::atan2(1.0, u));
+  }
+  const size_t lines = out.size();
+  for (size_t i = 0; i < lines; ++i) out.push_back(out[i] + kPi);
+}
+
 // ∫ g(Direction) dω over a planar light's visible region (receiver_planar.h),
 // in polar coordinates (ρ, φ) about the lobe's peak direction's hit point C
 // on the light's plane (R::lobe_centre(), the mirror direction unless R says
@@ -206,8 +265,11 @@ double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
 // behaviour of a chord at a tangent angle. The outer pieces share an
 // absolute tolerance, kReceiverQuadratureTolerance times a first estimate of
 // the whole (one rule per piece), so that a piece holding little of the
-// integral is not asked for digits below its round-off. The error reached
-// goes to the open ErrorLedger (NestedError).
+// integral is not asked for digits below its round-off. Where the
+// receiver's f has support edges (R::support_edges()), each ray is also cut
+// where it crosses one and φ where a ray touches one, so that no piece
+// spans the edge's kink or jump. The error reached goes to the open
+// ErrorLedger (NestedError).
 template <class R, class G>
 double plane_integral(const PlanarEmitter& light, const R& receiver, G g) {
   NestedError reached;
@@ -215,6 +277,8 @@ double plane_integral(const PlanarEmitter& light, const R& receiver, G g) {
   const Vec3 r = receiver.mirror();
   const PolarRegion region(light.boundary, polar_centre(light, receiver.R::lobe_centre()));
   const double h = light.height;
+  std::vector<EdgeInPlane> edges;
+  for (const SupportEdge& e : receiver.R::support_edges()) edges.emplace_back(e, light);
   // n·v and r·v for v = x·s + y·t − h·toward_receiver (receiver_planar.h).
   const double ns = dot(n, light.s), nt = dot(n, light.t), nh = -h * dot(n, light.toward_receiver);
   const double r_toward = dot(r, light.toward_receiver);
@@ -225,7 +289,11 @@ double plane_integral(const PlanarEmitter& light, const R& receiver, G g) {
     std::vector<std::pair<double, double>> spans;
     region.intervals(c, s, spans);
     double sum = 0, ray_error = 0;
+    std::vector<double> pieces;
     for (const auto& [lo, hi] : spans) {
+      pieces.assign({lo, hi});
+      for (const EdgeInPlane& e : edges) edge_crossings(e, cx, cy, h, c, s, lo, hi, pieces);
+      std::sort(pieces.begin(), pieces.end());
       auto inner = [&](double rho) {
         const double x = cx + rho * c, y = cy + rho * s;
         const double d2 = x * x + y * y + h * h, d = std::sqrt(d2);
@@ -240,14 +308,28 @@ double plane_integral(const PlanarEmitter& light, const R& receiver, G g) {
                            d, cos_emission}) *
                rho * cos_emission / d2;
       };
-      sum += adaptive_gauss_kronrod_relative(inner, lo, hi, kReceiverQuadratureTolerance, kReceiverQuadratureDepth, 1,
-                                             kPlaneInnerBisections, &ray_error);
+      for (size_t i = 0; i + 1 < pieces.size(); ++i)
+        if (pieces[i + 1] > pieces[i])
+          sum += adaptive_gauss_kronrod_relative(inner, pieces[i], pieces[i + 1], kReceiverQuadratureTolerance,
+                                                 kReceiverQuadratureDepth, 1, kPlaneInnerBisections, &ray_error);
     }
     reached.inner(sum, ray_error);
     return sum;
   };
+  // The region's critical angles, and the support edges' tangent rays within their turn.
+  std::vector<double> angles = region.angles();
+  if (!edges.empty()) {
+    const double base = angles.front();
+    std::vector<double> tangents;
+    for (const EdgeInPlane& e : edges) edge_tangent_angles(e, cx, cy, h, tangents);
+    for (double a : tangents) {
+      a = base + std::remainder(a - base - kPi, 2 * kPi) + kPi;  // into [base, base + 2π]
+      if (a > base && a < base + 2 * kPi) angles.push_back(a);
+    }
+    std::sort(angles.begin(), angles.end());
+  }
   // Each piece's two halves in σ ∈ [0, √((b − a)/2)].
-  const std::vector<double>& angles = region.angles();
+  
   auto from_low = [&](double a) { return [&outer, a](double sigma) { return 2 * sigma * outer(a + sigma * sigma); }; };
   auto from_high = [&](double b) { return [&outer, b](double sigma) { return 2 * sigma * outer(b - sigma * sigma); }; };
   double first = 0;

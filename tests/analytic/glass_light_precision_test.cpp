@@ -1,0 +1,565 @@
+// A disk light behind rough glass (analytic/glass_light.h:
+// glass_light_radiance and glass_light_second_moment) against independent
+// values in 50 digits (boost::multiprecision::cpp_bin_float_50 with the
+// Gauss–Kronrod machinery of big_quadrature.h): the radiance and E[Y²] of
+// bsdf, light_area, light_solid_angle (a disk is sampled by area, so the
+// light_area value), mis_balance, mis_power and mis_one_sample, in both
+// transport conventions.
+//
+// The integrand, written here from the definitions (Walter, Marschner, Li &
+// Torrance 2007) at a point x of the disk, with ωi = (x − p)/|x − p|, μo =
+// n·ωo, μi = −n·ωi, η the far side's index relative to the viewer's:
+// m = ±normalize(ωo + η ωi) with n·m > 0, the support ωo·m > 0, ωi·m < 0;
+// D(m) = α²/(π(α²(n·m)² + |m − (n·m)n|²)²); Λ(μ) = (√(1 + α²tan²θ) − 1)/2;
+// G2 separable G1(ωo)G1(ωi) or height-correlated 1/(1 + Λo + Λi); J =
+// η²|ωi·m|/(η ωi·m + ωo·m)²; F from the s and p amplitudes via Snell's law
+// at ωo·m; h = L·(1 − F)·D·G2·(ωo·m)·J/μo (f·μi times the emission L, the
+// glass's albedo 1), the bsdf density p_b = (1 − F)·G1(ωo)·(ωo·m)·D·J/μo,
+// the light density by area p_l = d²/(A cos θ'). Transmission is scaled by
+// s (1/η² for radiance, 1 for none): the mean by s, every E[Y²] by s² (the
+// MIS weights do not depend on s), so one reference serves both conventions.
+// E[Y²]: bsdf ∫h²/p_b, light ∫h²/p_l, one-sample ∫h²/(c p_b + (1 − c) p_l)
+// with c = kOneSampleBsdfProbability, multi-sample (β = 1 balance, 2 power,
+// w_b = p_b^β/(p_b^β + p_l^β), w_l = 1 − w_b) ∫w_b²h²/p_b + ∫w_l²h²/p_l +
+// 2·∫w_b h·∫w_l h. No library formula is called (not core/fresnel.h, not
+// analytic/fresnel.h, not analytic/ggx.h).
+//
+// The method, not the library's (which integrates over the mirrored light in
+// polar coordinates about the mirrored Snell direction's hit, in two cosines)
+// nor glass_light_test.cpp's (polar about the disk's centre, in double): over
+// the disk's area in polar coordinates (ρ, ψ) about the lobe's peak on the
+// disk's plane (Snell's direction from p), dω = cos θ'/d² dA, dA = ρ dρ dψ.
+// With the peak on the disk each ray runs from the peak to the rim; with it
+// off the disk, ψ spans the disk's angular extent (cut at the centre's
+// direction and graded by 2 towards it) and each ray its chord. ρ is cut at
+// width·2^k from the ray's start, width = α·depth/4 the lobe's footprint
+// scale (the double test's guess); the pieces' ends are smoothed by
+// big_quadrature.h (a chord's square root at the tangent angles). Every
+// disk lies wholly inside the BTDF's support (DisksLieInsideTheSupport and
+// each sweep assert it), so the integrand is smooth on the disk.
+//
+// Tolerance: the requirement, 1e-13 relative (kPrecisionTarget), and
+// the library's own bound: each value is computed under an ErrorLedger,
+// whose bound (the quadratures' reported estimates plus kRoundoffUlps·ε of
+// the value; `furnace analytic` prints it for the radiance and every E[Y²])
+// must cover the error, and must have received a report. The references:
+// kReferenceTolerance 1e-15 relative per nested integral, at most
+// kReferenceDepth bisection levels.
+//
+// Measured (worst relative error; 14 values a case: the radiance and 6 E[Y²]
+// in both conventions; CPU seconds on a shared 2-core machine):
+// default (GlassLightPrecision.*, 15 CPU s in all): Outside (η 1.5, α 0.3,
+// height-correlated, 45°) 2.1e-15, reference 3 s; Inside (η′ 1/1.5, α 0.3,
+// 30°) 4.1e-15, reference 4 s; the controls 7 s. Slow
+// (GlassLightPrecisionSlow.AllCases, 154 values, about 40 CPU s, a reference
+// 1.5 to 6 s): glass_light_test.cpp's 8 geometries, α 0.1 from inside, 41° from
+// inside (0.8° short of the critical angle) and 45° (beyond it): worst
+// 5.2e-14 (232 ε, A01SepOut10, light_area, none); per value radiance
+// 1.8e-14, bsdf 1.8e-14, light_area and light_solid_angle 5.2e-14,
+// mis_balance 2.0e-14, mis_power 1.9e-14, mis_one_sample 1.9e-14; every α ≥
+// 0.3 case at most 4.1e-15, the critical and beyond views 1.2e-15 and
+// 1.0e-15. The ledger's bound at most 3.8e-9 relative, error/bound at most
+// 0.063. The references converged: recomputed at 1e-17 on other nodes
+// (width × 0.37, ψ in 24ths) they moved by at most 2.1e-30, so the errors
+// are the library's (glass_light_test.cpp's double integral found 5.2e-14
+// too). Negative controls (Outside, radiance convention): J without η² in f
+// and p_b misses the radiance by 1.25 and light_area by 4.06; multi-sample
+// MIS without its cross term misses mis_balance by 0.60 and mis_power by
+// 0.51 (each over 1e8 times the ledger's bound).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <functional>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <boost/math/constants/constants.hpp>
+#include <boost/multiprecision/cpp_bin_float.hpp>
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "analytic/error_ledger.h"
+#include "analytic/glass.h"
+#include "analytic/glass_light.h"
+#include "core/scene.h"
+#include "core/strategy.h"
+#include "tests/analytic/big_quadrature.h"
+
+namespace furnace::analytic {
+namespace {
+
+using Big = big_quadrature::Big;
+
+// The requirement on every value.
+constexpr double kPrecisionTarget = 1e-13;
+// The 50-digit quadratures' relative tolerance per nested integral, on
+// Gauss–Kronrod's |K − G| estimate (pessimistic by orders for a smooth
+// piece): far below the target.
+constexpr double kReferenceTolerance = 1e-15;
+// Bisection levels of a 50-digit integral: the cuts resolve every feature first.
+constexpr int kReferenceDepth = 30;
+// A defective reference must be missed by more than this.
+constexpr double kControlMiss = 1e-6;
+// The smallest of ωo·m, −ωi·m and n·m a case's disk may reach: away from
+// the support's edge (where f jumps or kinks along a curve no cut follows).
+constexpr double kSupportMargin = 0.05;
+// The light's emitted radiance.
+constexpr double kEmission = 3.0;
+
+struct Case {
+  std::string name;
+  double alpha;
+  MicrofacetShadowing shadowing;
+  double view_degrees;  // θo from the normal on the viewer's side
+  bool from_inside;     // viewer behind the glass's front normal (η′ = 1/1.5), light in front
+  double depth;         // the disk's distance from the glass's plane
+  double offset;        // the disk centre's y (the view's azimuth is −y)
+  double radius;
+};
+
+// The library's inputs (doubles): glass in z = 0 (front normal +z, η 1.5),
+// a one-sided disk light parallel to it facing the glass, the point p and
+// the view ωo.
+struct CaseScene {
+  Scene scene;
+  Vec3 p, wo;
+};
+CaseScene scene_of(const Case& k) {
+  const double theta = k.view_degrees * kPi / 180;
+  const double side = k.from_inside ? -1 : 1;  // the viewer's side of z = 0
+  CaseScene c;
+  c.p = {0.1, -0.05, 0};
+  c.wo = {0, -std::sin(theta), side * std::cos(theta)};
+  c.scene.name = "glass_light_precision";
+  c.scene.source = k.name;
+  c.scene.camera.center = c.p + c.wo * 10;
+  c.scene.objects.push_back({"glass", Rectangle{{-3, -3, 0}, {6, 0, 0}, {0, 6, 0}},
+                             Material{1.0, Dielectric{1.5, k.alpha, k.shadowing}}, 0});
+  c.scene.objects.push_back({"light", Disk{{0.02, k.offset, -side * k.depth}, {0, 0, side}, k.radius}, Material{},
+                             kEmission});
+  return c;
+}
+
+// ---------------------------------------------------------------------------
+// The 50-digit integrand.
+
+using B3 = std::array<Big, 3>;
+Big dot3(const B3& a, const B3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+B3 big3(const Vec3& v) { return {Big(v.x), Big(v.y), Big(v.z)}; }
+
+enum class Defect {
+  kNone,
+  kJacobianWithoutEta2  // J = |ωi·m|/(η ωi·m + ωo·m)², in f and p_b alike (pbrt-v4 before dfa11074)
+};
+
+// Integrated together (at s = 1): ∫h (the mean), ∫h²/p_b, ∫h²/p_l,
+// ∫h²/(c p_b + (1 − c) p_l), and per heuristic (balance, power) the four
+// pieces of multi-sample MIS: ∫w_b²h²/p_b, ∫w_l²h²/p_l, ∫w_b h, ∫w_l h.
+enum Component : size_t {
+  kMean,
+  kBsdf,
+  kLight,
+  kOneSample,
+  kBalanceBsdf,
+  kBalanceLight,
+  kBalanceWeightedBsdf,
+  kBalanceWeightedLight,
+  kPowerBsdf,
+  kPowerLight,
+  kPowerWeightedBsdf,
+  kPowerWeightedLight,
+  kComponents
+};
+using Values = std::array<Big, kComponents>;
+
+// A case in 50 digits: the scene's exact η (1.5 or 1/1.5), the doubles the
+// library receives for p, ωo (normalised here) and the disk.
+struct Geometry {
+  Big eta, alpha, pi, mu_o, lambda_o, g1o, radius, area, emission;
+  B3 n, wo, p, centre, disk_normal;
+  MicrofacetShadowing shadowing;
+  Defect defect;
+  Geometry(const Case& k, const CaseScene& c, Defect d)
+      : eta(k.from_inside ? 1 / Big(1.5) : Big(1.5)),
+        alpha(k.alpha),
+        pi(boost::math::constants::pi<Big>()),
+        radius(k.radius),
+        emission(kEmission),
+        shadowing(k.shadowing),
+        defect(d) {
+    const Disk& disk = std::get<Disk>(c.scene.objects[1].shape);
+    n = {Big(0), Big(0), Big(k.from_inside ? -1 : 1)};
+    wo = big3(c.wo);
+    const Big length = sqrt(dot3(wo, wo));
+    for (Big& e : wo) e /= length;
+    p = big3(c.p);
+    centre = big3(disk.center);
+    disk_normal = big3(disk.normal);
+    area = pi * radius * radius;
+    mu_o = dot3(n, wo);
+    lambda_o = lambda(mu_o);
+    g1o = 1 / (1 + lambda_o);
+  }
+  Big lambda(const Big& mu) const { return (sqrt(1 + alpha * alpha * (1 - mu * mu) / (mu * mu)) - 1) / 2; }
+  // Fresnel at cos θ = c from the s and p amplitudes, θt by Snell's law.
+  Big fresnel(const Big& c) const {
+    const Big sin_t2 = (1 - c * c) / (eta * eta);
+    if (sin_t2 >= 1) return Big(1);
+    const Big ct = sqrt(1 - sin_t2);
+    const Big rs = (c - eta * ct) / (c + eta * ct), rp = (eta * c - ct) / (eta * c + ct);
+    return (rs * rs + rp * rp) / 2;
+  }
+  // The microfacet normal of the refraction pair (ωo, ωi) with n·m > 0.
+  B3 half_vector(const B3& wi) const {
+    B3 m = {wo[0] + eta * wi[0], wo[1] + eta * wi[1], wo[2] + eta * wi[2]};
+    Big length = sqrt(dot3(m, m));
+    if (dot3(n, m) < 0) length = -length;
+    for (Big& e : m) e /= length;
+    return m;
+  }
+  // min(ωo·m, −ωi·m, n·m): positive inside the BTDF's support.
+  Big support_margin(const B3& wi) const {
+    const B3 m = half_vector(wi);
+    return std::min({dot3(wo, m), -dot3(wi, m), dot3(n, m)});
+  }
+};
+
+struct Btdf {
+  Big f_cos, pdf;  // f·μi at s = 1, and p_b (sr⁻¹)
+};
+std::optional<Btdf> btdf(const Geometry& g, const B3& wi) {
+  const Big mu_i = -dot3(g.n, wi);
+  const B3 m = g.half_vector(wi);
+  const Big o_m = dot3(g.wo, m), i_m = dot3(wi, m), n_m = dot3(g.n, m);
+  if (!(mu_i > 0) || !(o_m > 0) || !(i_m < 0) || !(n_m > 0)) return std::nullopt;
+  const Big t = 1 - g.fresnel(o_m);
+  if (!(t > 0)) return std::nullopt;
+  const B3 across = {m[0] - n_m * g.n[0], m[1] - n_m * g.n[1], m[2] - n_m * g.n[2]};
+  const Big q = g.alpha * g.alpha * n_m * n_m + dot3(across, across);
+  const Big d = g.alpha * g.alpha / (g.pi * q * q);
+  const Big lambda_i = g.lambda(mu_i);
+  const Big g2 = g.shadowing == MicrofacetShadowing::kSeparable ? g.g1o / (1 + lambda_i)
+                                                                 : 1 / (1 + g.lambda_o + lambda_i);
+  const Big denom = g.eta * i_m + o_m;
+  const Big jacobian = (g.defect == Defect::kJacobianWithoutEta2 ? Big(1) : g.eta * g.eta) * -i_m / (denom * denom);
+  const Big common = t * d * o_m * jacobian / g.mu_o;  // (1 − F)·D·(ωo·m)·J/μo
+  return Btdf{common * g2, common * g.g1o};
+}
+
+// Every component at the disk point centre + (x, y, 0) (the disk is parallel
+// to the glass, in a plane z = const), per unit area (times dω/dA = cos θ'/d²).
+Values at_point(const Geometry& g, const Big& x, const Big& y) {
+  const B3 to = {g.centre[0] + x - g.p[0], g.centre[1] + y - g.p[1], g.centre[2] - g.p[2]};
+  const Big d2 = dot3(to, to), d = sqrt(d2);
+  const B3 wi = {to[0] / d, to[1] / d, to[2] / d};
+  const Big cos_emission = -dot3(g.disk_normal, wi);
+  Values v{};
+  const std::optional<Btdf> b = btdf(g, wi);
+  if (!(cos_emission > 0) || !b) return v;
+  const Big h = g.emission * b->f_cos, h2 = h * h;
+  const Big p_b = b->pdf, p_l = d2 / (g.area * cos_emission);
+  const Big c = kOneSampleBsdfProbability;
+  v[kMean] = h;
+  v[kBsdf] = h2 / p_b;
+  v[kLight] = h2 / p_l;
+  v[kOneSample] = h2 / (c * p_b + (1 - c) * p_l);
+  for (const Component first : {kBalanceBsdf, kPowerBsdf}) {
+    const Big b_beta = first == kPowerBsdf ? p_b * p_b : p_b, l_beta = first == kPowerBsdf ? p_l * p_l : p_l;
+    const Big w_b = b_beta / (b_beta + l_beta), w_l = l_beta / (b_beta + l_beta);
+    v[first] = w_b * w_b * h2 / p_b;
+    v[first + 1] = w_l * w_l * h2 / p_l;
+    v[first + 2] = w_b * h;
+    v[first + 3] = w_l * h;
+  }
+  const Big measure = cos_emission / d2;
+  for (Big& e : v) e *= measure;
+  return v;
+}
+
+// Snell's direction from p meets the disk's plane here, relative to the
+// disk's centre (its in-plane x, y); none past the critical angle.
+std::optional<std::pair<Big, Big>> lobe_peak(const Geometry& g) {
+  const Big cos_t2 = 1 - (1 - g.mu_o * g.mu_o) / (g.eta * g.eta);
+  if (!(cos_t2 > 0)) return std::nullopt;
+  const Big along_n = g.mu_o / g.eta - sqrt(cos_t2);
+  const B3 t = {-g.wo[0] / g.eta + along_n * g.n[0], -g.wo[1] / g.eta + along_n * g.n[1],
+                -g.wo[2] / g.eta + along_n * g.n[2]};
+  const B3 to_centre = {g.centre[0] - g.p[0], g.centre[1] - g.p[1], g.centre[2] - g.p[2]};
+  const Big reach = dot3(to_centre, g.disk_normal) / dot3(t, g.disk_normal);
+  return std::make_pair(g.p[0] + reach * t[0] - g.centre[0], g.p[1] + reach * t[1] - g.centre[1]);
+}
+
+// The components over the disk, each nested integral to `tolerance`.
+Values reference(const Case& k, Defect defect, double tolerance = kReferenceTolerance) {
+  const CaseScene c = scene_of(k);
+  const Geometry g(k, c, defect);
+  // The polar centre (qx, qy) relative to the disk's centre: the lobe's
+  // peak, or the centre itself past the critical angle.
+  const auto peak = lobe_peak(g);
+  const Big qx = peak ? peak->first : Big(0), qy = peak ? peak->second : Big(0);
+  const Big q2 = qx * qx + qy * qy, r2 = g.radius * g.radius;
+  const bool centred_inside = q2 < r2;
+  const Big width = Big(k.alpha) * Big(k.depth) / 4;
+  const auto integrate = [&](const big_quadrature::Integrand<Values>& f, std::vector<Big> cuts) {
+    return big_quadrature::integrate(f, std::move(cuts), tolerance, kReferenceDepth);
+  };
+  const auto ray = [&](const Big& psi) {
+    const Big cs = cos(psi), sn = sin(psi);
+    // |q + ρe|² ≤ R²: ρ² + 2ρ(q·e) + |q|² − R² ≤ 0.
+    const Big along = qx * cs + qy * sn, disc = along * along - (q2 - r2);
+    if (!(disc > 0)) return Values{};
+    const Big root = sqrt(disc);
+    const Big lo = centred_inside ? Big(0) : -along - root, hi = -along + root;
+    if (!(hi > lo)) return Values{};
+    std::vector<Big> cuts{lo, hi};
+    for (Big t = width; lo + t < hi; t *= 2) cuts.push_back(lo + t);
+    return integrate(
+        [&](const Big& rho) {
+          Values v = at_point(g, qx + rho * cs, qy + rho * sn);
+          for (Big& e : v) e *= rho;  // dA = ρ dρ dψ
+          return v;
+        },
+        cuts);
+  };
+  const Big pi = g.pi;
+  std::vector<Big> psi_cuts;
+  if (centred_inside) {
+    for (int i = 0; i <= 8; ++i) psi_cuts.push_back(pi * i / 4);  // the lobe is smooth in ψ: eighths
+  } else {
+    // The disk's angular extent seen from the peak, graded towards the centre's direction.
+    const Big towards = atan2(-qy, -qx), half = asin(g.radius / sqrt(q2));
+    psi_cuts = {towards - half, towards, towards + half};
+    for (Big t = width / sqrt(q2); t < half; t *= 2) psi_cuts.push_back(towards - t), psi_cuts.push_back(towards + t);
+  }
+  return integrate(ray, psi_cuts);
+}
+
+// The smallest support margin over the disk (its centre and 2000 points on
+// each of two circles), in 50 digits.
+double support_margin(const Case& k) {
+  const CaseScene c = scene_of(k);
+  const Geometry g(k, c, Defect::kNone);
+  Big worst = 1;
+  for (int i = 0; i < 2000; ++i) {
+    const Big a = 2 * g.pi * i / 2000;
+    for (const Big& r : {g.radius, g.radius / 2, Big(0)}) {
+      const B3 to = {g.centre[0] + r * cos(a) - g.p[0], g.centre[1] + r * sin(a) - g.p[1], g.centre[2] - g.p[2]};
+      const Big d = sqrt(dot3(to, to));
+      worst = std::min(worst, g.support_margin({to[0] / d, to[1] / d, to[2] / d}));
+    }
+  }
+  return static_cast<double>(worst);
+}
+
+// ---------------------------------------------------------------------------
+// The library's values against the reference.
+
+// Each value the library states, in the order a class prints them.
+constexpr const char* kValueNames[] = {"radiance",  "bsdf",      "light_area",    "light_solid_angle",
+                                       "mis_balance", "mis_power", "mis_one_sample"};
+
+// The reference of a value in a convention (transmission scaled by s: the
+// mean by s, E[Y²] by s²); `cross_term` false: multi-sample MIS without
+// 2·∫w_b h·∫w_l h (a negative control).
+Big expected(const Values& v, const std::string& what, const Big& s, bool cross_term = true) {
+  const auto multi_sample = [&](size_t first) {
+    return v[first] + v[first + 1] + (cross_term ? 2 * v[first + 2] * v[first + 3] : Big(0));
+  };
+  if (what == "radiance") return s * v[kMean];
+  if (what == "bsdf") return s * s * v[kBsdf];
+  if (what == "light_area" || what == "light_solid_angle") return s * s * v[kLight];  // a disk: by area
+  if (what == "mis_balance") return s * s * multi_sample(kBalanceBsdf);
+  if (what == "mis_power") return s * s * multi_sample(kPowerBsdf);
+  return s * s * v[kOneSample];
+}
+
+Strategy strategy_of(const std::string& what) {
+  if (what == "bsdf") return Strategy::kBsdf;
+  if (what == "light_area") return Strategy::kLightArea;
+  if (what == "light_solid_angle") return Strategy::kLightSolidAngle;
+  if (what == "mis_balance") return Strategy::kMisBalance;
+  if (what == "mis_power") return Strategy::kMisPower;
+  return Strategy::kMisOneSample;
+}
+
+// The library's value and the ErrorLedger's bound on it (absolute), and the
+// relative error its quadratures reported (0: none reported).
+struct Stated {
+  double value = 0, bound = 0, reported = 0;
+};
+Stated library(const Case& k, const std::string& what, TransportConvention convention) {
+  const CaseScene c = scene_of(k);
+  const ErrorLedger ledger;
+  Stated out;
+  out.value = what == "radiance" ? glass_light_radiance(c.scene, c.p, c.wo, 0, convention)
+                                 : glass_light_second_moment(strategy_of(what), c.scene, c.p, c.wo, 0, convention,
+                                                             LightSelection::kUniform);
+  out.bound = ledger.bound(out.value);
+  out.reported = ledger.relative_quadrature_error();
+  return out;
+}
+
+double relative_error(double value, const Big& want) { return static_cast<double>(abs((Big(value) - want) / want)); }
+
+Big scale_of(const Case& k, TransportConvention convention) {
+  if (convention == TransportConvention::kNone) return Big(1);
+  const Big eta = k.from_inside ? 1 / Big(1.5) : Big(1.5);
+  return 1 / (eta * eta);
+}
+
+double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
+
+struct Worst {
+  double error = 0, coverage = 0, widest_bound = 0;  // coverage: error/bound at most
+  double library_seconds = 0, reference_seconds = 0;
+  std::string where = "nowhere";
+  std::map<std::string, double> per_value;
+  int count = 0;
+};
+
+void check_case(const Case& k, const Values& ref, Worst& worst) {
+  for (const TransportConvention convention : {TransportConvention::kRadiance, TransportConvention::kNone}) {
+    const std::string conv = transport_convention_name(convention);
+    const Big s = scale_of(k, convention);
+    for (const char* what : kValueNames) {
+      const double start = cpu_seconds();
+      const Stated got = library(k, what, convention);
+      worst.library_seconds += cpu_seconds() - start;
+      const Big want = expected(ref, what, s);
+      const double err = relative_error(got.value, want);
+      const std::string where = k.name + ", " + conv + ", " + what;
+      EXPECT_LE(err, kPrecisionTarget) << where << ": " << got.value << " vs " << static_cast<double>(want);
+      const double actual = static_cast<double>(abs(Big(got.value) - want));
+      EXPECT_LE(actual, got.bound) << where << ": error " << actual << " outside the ledger's bound " << got.bound;
+      EXPECT_GT(got.reported, 0) << where << ": no quadrature reported to the ErrorLedger";
+      if (err > worst.error) worst.error = err, worst.where = where;
+      worst.per_value[what] = std::max(worst.per_value[what], err);
+      worst.coverage = std::max(worst.coverage, actual / got.bound);
+      worst.widest_bound = std::max(worst.widest_bound, got.bound / std::fabs(got.value));
+      ++worst.count;
+    }
+  }
+}
+
+void sweep(const char* what, const std::vector<Case>& cases) {
+  Worst worst;
+  for (const Case& k : cases) {
+    const double margin = support_margin(k);
+    ASSERT_GT(margin, kSupportMargin) << k.name << ": the disk reaches the BTDF's support's edge";
+    const double start = cpu_seconds();
+    const Values ref = reference(k, Defect::kNone);
+    const double seconds = cpu_seconds() - start;
+    worst.reference_seconds += seconds;
+    Worst one;
+    check_case(k, ref, one);
+    std::printf("  %-18s reference %6.2f s, library %5.2f s, worst %.3g (%s)\n", k.name.c_str(), seconds,
+                one.library_seconds, one.error, one.where.c_str());
+    std::fflush(stdout);  // progress of a slow sweep, also when piped
+    worst.library_seconds += one.library_seconds;
+    worst.count += one.count;
+    worst.coverage = std::max(worst.coverage, one.coverage);
+    worst.widest_bound = std::max(worst.widest_bound, one.widest_bound);
+    if (one.error > worst.error) worst.error = one.error, worst.where = one.where;
+    for (const auto& [name, e] : one.per_value) worst.per_value[name] = std::max(worst.per_value[name], e);
+  }
+  std::printf("[ glass light ] %-38s %3d values: worst relative error %.3g (%.1f eps) at %s; %.3g CPU s for the "
+              "values under test, %.3g CPU s for the references\n",
+              what, worst.count, worst.error, worst.error / std::numeric_limits<double>::epsilon(),
+              worst.where.c_str(), worst.library_seconds, worst.reference_seconds);
+  std::string per_value;
+  for (const char* name : kValueNames) per_value += fmt::format(" {} {:.2g},", name, worst.per_value[name]);
+  per_value.pop_back();
+  std::printf("[ glass light ] %-38s worst per value:%s\n", what, per_value.c_str());
+  std::printf("[ glass light ] %-38s ErrorLedger bound: widest %.3g relative, error/bound at most %.3g\n", what,
+              worst.widest_bound, worst.coverage);
+}
+
+constexpr MicrofacetShadowing kSeparable = MicrofacetShadowing::kSeparable;
+constexpr MicrofacetShadowing kHeightCorrelated = MicrofacetShadowing::kHeightCorrelated;
+
+// glass_light_test.cpp's geometries (the disk centred near the lobe's peak
+// unless named Tail).
+const Case kOut45{"A03HcOut45", 0.3, kHeightCorrelated, 45, false, 0.6, 0.27, 0.25};
+const Case kIn30{"A03HcIn30", 0.3, kHeightCorrelated, 30, true, 0.6, 0.63, 0.3};  // η′ = 1/1.5
+const std::vector<Case>& slow_cases() {
+  static const std::vector<Case> all = {
+      {"A01HcOut45", 0.1, kHeightCorrelated, 45, false, 0.6, 0.27, 0.25},
+      kOut45,
+      {"A03SepOut45", 0.3, kSeparable, 45, false, 0.6, 0.27, 0.25},
+      {"A1HcOut45", 1.0, kHeightCorrelated, 45, false, 0.6, 0.27, 0.25},
+      {"A03HcOut70Tail", 0.3, kHeightCorrelated, 70, false, 0.5, 0.6, 0.15},  // peak off the disk
+      {"A01SepOut10", 0.1, kSeparable, 10, false, 1.0, 0.0, 0.5},
+      kIn30,
+      {"A1SepIn20", 1.0, kSeparable, 20, true, 0.5, 0.3, 0.2},
+      // α 0.1 from inside, and 41° from inside (the critical angle is
+      // 41.81°): Snell's direction 79.8° from the normal, the disk about its hit.
+      {"A01HcIn30", 0.1, kHeightCorrelated, 30, true, 0.6, 0.63, 0.3},
+      {"A03HcIn41Critical", 0.3, kHeightCorrelated, 41, true, 0.5, 2.72, 0.4},
+      // Beyond it (45°): the macro interface reflects ωo totally, no peak
+      // (polar about the disk's centre, 60° from the far side's normal).
+      {"A03HcIn45Beyond", 0.3, kHeightCorrelated, 45, true, 0.5, 0.82, 0.3},
+  };
+  return all;
+}
+
+// ---------------------------------------------------------------------------
+// Default run.
+
+TEST(GlassLightPrecision, DisksLieInsideTheSupport) {
+  for (const Case& k : slow_cases()) {
+    const double margin = support_margin(k);
+    std::printf("  %-18s smallest of wo.m, -wi.m, n.m on the disk: %.3g\n", k.name.c_str(), margin);
+    EXPECT_GT(margin, kSupportMargin) << k.name;
+  }
+}
+
+TEST(GlassLightPrecision, Outside) { sweep("eta 1.5 outside, alpha 0.3, 45 deg", {kOut45}); }
+
+TEST(GlassLightPrecision, Inside) { sweep("eta 1/1.5 inside, alpha 0.3, 30 deg", {kIn30}); }
+
+// Negative controls: a reference with a defect misses the library by far
+// (and outside its ledger's bound) while the right one agrees with it.
+TEST(GlassLightPrecision, DefectiveReferencesAreMissed) {
+  const TransportConvention radiance = TransportConvention::kRadiance;
+  const Big s = scale_of(kOut45, radiance);
+  const Values right = reference(kOut45, Defect::kNone);
+  const Values without_eta2 = reference(kOut45, Defect::kJacobianWithoutEta2);
+  struct Control {
+    const char* defect;
+    const char* what;
+    Big want_wrong;
+  };
+  const Control controls[] = {
+      {"Jacobian without eta^2", "radiance", expected(without_eta2, "radiance", s)},
+      {"Jacobian without eta^2", "light_area", expected(without_eta2, "light_area", s)},
+      {"MIS without its cross term", "mis_balance", expected(right, "mis_balance", s, false)},
+      {"MIS without its cross term", "mis_power", expected(right, "mis_power", s, false)}};
+  for (const Control& c : controls) {
+    const Stated got = library(kOut45, c.what, radiance);
+    const double miss = relative_error(got.value, c.want_wrong);
+    const std::string what = fmt::format("{}, {}", c.defect, c.what);
+    std::printf("[ glass light ] control %-42s relative difference %.3g from the library (%.3g times its bound); "
+                "the right reference %.3g\n",
+                what.c_str(), miss, miss * std::fabs(got.value) / got.bound,
+                relative_error(got.value, expected(right, c.what, s)));
+    EXPECT_GT(miss, kControlMiss) << what;
+    EXPECT_GT(miss * std::fabs(got.value), got.bound) << what;
+    EXPECT_LE(relative_error(got.value, expected(right, c.what, s)), kPrecisionTarget) << what;
+  }
+}
+
+// ---------------------------------------------------------------------------
+// The wide set (label slow).
+
+TEST(GlassLightPrecisionSlow, AllCases) {
+  sweep("alpha 0.1..1, outside and inside, near critical", slow_cases());
+}
+
+}  // namespace
+}  // namespace furnace::analytic
