@@ -67,7 +67,8 @@ LobePair lobe_samples_at(const Vec3& wo, const Vec3& m, double eta, double alpha
     const double ct = std::sqrt(radicand) / eta;
     const double t_z = -wo.z / eta + (c / eta - ct) * m.z;
     if (t_z < 0) {
-      const double d = c - eta * ct;
+      // c − η cos θt = −(η² − 1)/(c + η cos θt): no cancellation as η → 1.
+      const double d = -(eta - 1) * (eta + 1) / (c + eta * ct);
       out.transmission = {1 - f, g2_over_g1o(shadowing, lambda_o, lambda_ggx(alpha, t_z)), t_z,
                           eta * eta * ct / (d * d)};
     }

@@ -176,7 +176,8 @@ class ReceiverModel : public Receiver {
   Vec3 lobe_centre() const { return this->mirror(); }
   // The circles where f is not smooth inside the light's region: a planar
   // light's rays are cut where they cross one, and its outer angle where a
-  // ray touches one (plane_integral), so that no piece spans an edge. None
+  // ray touches one or passes where one meets the region's boundary or
+  // another (plane_integral), so that no piece spans an edge. None
   // by default (f smooth above the horizon); R hides this to name them (a
   // refraction's support, glass_light.h).
   std::vector<SupportEdge> support_edges() const { return {}; }

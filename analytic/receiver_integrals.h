@@ -199,11 +199,12 @@ double cap_integral(const Cap& cap, const Vec3& axis, const R& receiver, G g) {
 // a·ω = k with ω ∝ v = x·s + y·t − h·toward_receiver (receiver_planar.h),
 // a·v = as·x + at·y + ah, crossed where (a·v)² = k²|v|².
 struct EdgeInPlane {
-  double as, at, ah, k2;
+  double as, at, ah, k, k2;
   EdgeInPlane(const SupportEdge& e, const PlanarEmitter& light)
       : as(dot(e.axis, light.s)),
         at(dot(e.axis, light.t)),
         ah(-light.height * dot(e.axis, light.toward_receiver)),
+        k(e.cos_angle),
         k2(e.cos_angle * e.cos_angle) {}
 };
 
@@ -237,6 +238,7 @@ inline void edge_crossings(const EdgeInPlane& e, double cx, double cy, double h,
 // q11·c² + 2·q12·c·s + q22·s² in (c, s) = (cos φ, sin φ), vanishes (each
 // line through the centre gives φ and φ + π).
 inline void edge_tangent_angles(const EdgeInPlane& e, double cx, double cy, double h, std::vector<double>& out) {
+  const size_t first = out.size();  // `out` may hold other angles already: turn only this edge's lines
   const double a0 = e.as * cx + e.at * cy + e.ah;
   const double p = a0 * e.as - e.k2 * cx, q = a0 * e.at - e.k2 * cy;
   const double big_e = a0 * a0 - e.k2 * (cx * cx + cy * cy + h * h);
@@ -250,8 +252,73 @@ inline void edge_tangent_angles(const EdgeInPlane& e, double cx, double cy, doub
     quadratic_roots(q11, 2 * q12, q22, roots);  // cot φ
     for (double u : roots) out.push_back(std::atan2(1.0, u));
   }
-  const size_t lines = out.size();
-  for (size_t i = 0; i < lines; ++i) out.push_back(out[i] + kPi);
+  const size_t last = out.size();
+  for (size_t i = first; i < last; ++i) out.push_back(out[i] + kPi);
+}
+
+// Steps of a boundary curve's parameter scanned for an edge's crossings: an
+// arc spans at most π (exact_region.h) and a circle meets a cone's conic at
+// most four times, so steps of 1/64 of a curve separate its crossings unless
+// the edge nearly grazes the boundary (two crossings within one step are
+// missed: the outer quadrature then bisects at that kink, as without a cut).
+inline constexpr int kBoundaryScanSteps = 64;
+
+// The angles φ of the rays from (cx, cy) through the points where the edge
+// meets a curve of the region's boundary: there a ray's interval inside the
+// support turns from ending at the edge to ending at the boundary, a kink in
+// the outer integrand (its derivative jumps where f jumps at the edge). The
+// points are the sign changes of a·v − k|v| (zero on the edge's own nappe
+// only) along the curve's parameter, each bisected to the last bit.
+inline void edge_boundary_angles(const EdgeInPlane& e, const Curve2& curve, double cx, double cy, double h,
+                                 std::vector<double>& out) {
+  auto point = [&](double u) {
+    if (!curve.is_arc)
+      return Point2{curve.start.x + u * (curve.end.x - curve.start.x),
+                    curve.start.y + u * (curve.end.y - curve.start.y)};
+    const double t = curve.t0 + u * curve.sweep;
+    return Point2{curve.circle.cx + curve.circle.radius * std::cos(t),
+                  curve.circle.cy + curve.circle.radius * std::sin(t)};
+  };
+  auto off = [&](double u) {
+    const Point2 x = point(u);
+    return e.as * x.x + e.at * x.y + e.ah - e.k * std::sqrt(x.x * x.x + x.y * x.y + h * h);
+  };
+  double lo = 0, before = off(0);
+  for (int i = 1; i <= kBoundaryScanSteps; ++i) {
+    const double hi = double(i) / kBoundaryScanSteps, after = off(hi);
+    if ((before < 0) != (after < 0)) {
+      const bool rising = before < 0;
+      double a = lo, b = hi;
+      for (double mid = 0.5 * (a + b); mid > a && mid < b; mid = 0.5 * (a + b))
+        ((off(mid) < 0) == rising ? a : b) = mid;
+      const Point2 x = point(0.5 * (a + b));
+      out.push_back(std::atan2(x.y - cy, x.x - cx));
+    }
+    lo = hi, before = after;
+  }
+}
+
+// The points where two edges meet on the light's plane (in its (x, y)):
+// two cones about the receiving point meet along at most two directions,
+// ω = α·a1 + β·a2 ± γ·(a1 × a2) with a1·ω = k1, a2·ω = k2 (α + β·c = k1,
+// α·c + β = k2, c = a1·a2) and |ω| = 1 (γ²|a1 × a2|² = 1 − |α·a1 + β·a2|²);
+// each meets the plane at (x, y) = h·(ω·s, ω·t)/(−ω·u), u =
+// toward_receiver, if it points at it.
+inline void edge_corners(const SupportEdge& e1, const SupportEdge& e2, const PlanarEmitter& light,
+                         std::vector<Point2>& out) {
+  const Vec3 normal = cross(e1.axis, e2.axis);
+  const double c = dot(e1.axis, e2.axis), sin2 = dot(normal, normal);
+  if (!(sin2 > 0)) return;  // coaxial cones share no isolated direction
+  const double alpha = (e1.cos_angle - c * e2.cos_angle) / sin2, beta = (e2.cos_angle - c * e1.cos_angle) / sin2;
+  const Vec3 in_plane = e1.axis * alpha + e2.axis * beta;
+  const double gamma2 = (1 - dot(in_plane, in_plane)) / sin2;
+  if (!(gamma2 >= 0)) return;  // the cones do not meet
+  for (const double sign : {-1.0, 1.0}) {
+    const Vec3 w = in_plane + normal * (sign * std::sqrt(gamma2));
+    const double toward_plane = -dot(w, light.toward_receiver);
+    if (toward_plane > 0)
+      out.push_back({light.height * dot(w, light.s) / toward_plane, light.height * dot(w, light.t) / toward_plane});
+  }
 }
 
 // ∫ g(Direction) dω over a planar light's visible region (receiver_planar.h),
@@ -267,9 +334,10 @@ inline void edge_tangent_angles(const EdgeInPlane& e, double cx, double cy, doub
 // the whole (one rule per piece), so that a piece holding little of the
 // integral is not asked for digits below its round-off. Where the
 // receiver's f has support edges (R::support_edges()), each ray is also cut
-// where it crosses one and φ where a ray touches one, so that no piece
-// spans the edge's kink or jump. The error reached goes to the open
-// ErrorLedger (NestedError).
+// where it crosses one, so that no piece spans the edge's kink or jump, and
+// φ where a ray touches one (a square root in φ) or passes where one meets
+// the region's boundary or another edge (a kink in φ). The error reached
+// goes to the open ErrorLedger (NestedError).
 template <class R, class G>
 double plane_integral(const PlanarEmitter& light, const R& receiver, G g) {
   NestedError reached;
@@ -277,8 +345,9 @@ double plane_integral(const PlanarEmitter& light, const R& receiver, G g) {
   const Vec3 r = receiver.mirror();
   const PolarRegion region(light.boundary, polar_centre(light, receiver.R::lobe_centre()));
   const double h = light.height;
+  const std::vector<SupportEdge> support_edges = receiver.R::support_edges();
   std::vector<EdgeInPlane> edges;
-  for (const SupportEdge& e : receiver.R::support_edges()) edges.emplace_back(e, light);
+  for (const SupportEdge& e : support_edges) edges.emplace_back(e, light);
   // n·v and r·v for v = x·s + y·t − h·toward_receiver (receiver_planar.h).
   const double ns = dot(n, light.s), nt = dot(n, light.t), nh = -h * dot(n, light.toward_receiver);
   const double r_toward = dot(r, light.toward_receiver);
@@ -316,13 +385,31 @@ double plane_integral(const PlanarEmitter& light, const R& receiver, G g) {
     reached.inner(sum, ray_error);
     return sum;
   };
-  // The region's critical angles, and the support edges' tangent rays within their turn.
+  // The region's critical angles, and within their turn the support edges'
+  // tangent rays, their meetings with the region's boundary and each other.
   std::vector<double> angles = region.angles();
   if (!edges.empty()) {
     const double base = angles.front();
-    std::vector<double> tangents;
-    for (const EdgeInPlane& e : edges) edge_tangent_angles(e, cx, cy, h, tangents);
-    for (double a : tangents) {
+    std::vector<double> at_edges;
+    for (const EdgeInPlane& e : edges) {
+      edge_tangent_angles(e, cx, cy, h, at_edges);
+      for (const Curve2& curve : light.boundary) edge_boundary_angles(e, curve, cx, cy, h, at_edges);
+    }
+    // Where two edges meet inside the region, a ray's interval inside the
+    // support turns from ending at one to ending at the other: a kink.
+    std::vector<Point2> corners;
+    for (size_t i = 0; i < support_edges.size(); ++i)
+      for (size_t j = i + 1; j < support_edges.size(); ++j)
+        edge_corners(support_edges[i], support_edges[j], light, corners);
+    std::vector<std::pair<double, double>> spans;
+    for (const Point2& x : corners) {
+      const double dx = x.x - cx, dy = x.y - cy, rho = std::hypot(dx, dy);
+      if (!(rho > 0)) continue;
+      region.intervals(dx / rho, dy / rho, spans);
+      for (const auto& [lo, hi] : spans)
+        if (rho > lo && rho < hi) at_edges.push_back(std::atan2(dy, dx));
+    }
+    for (double a : at_edges) {
       a = base + std::remainder(a - base - kPi, 2 * kPi) + kPi;  // into [base, base + 2π]
       if (a > base && a < base + 2 * kPi) angles.push_back(a);
     }

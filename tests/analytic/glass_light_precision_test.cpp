@@ -34,9 +34,19 @@
 // direction and graded by 2 towards it) and each ray its chord. ρ is cut at
 // width·2^k from the ray's start, width = α·depth/4 the lobe's footprint
 // scale (the double test's guess); the pieces' ends are smoothed by
-// big_quadrature.h (a chord's square root at the tangent angles). Every
-// disk lies wholly inside the BTDF's support (DisksLieInsideTheSupport and
-// each sweep assert it), so the integrand is smooth on the disk.
+// big_quadrature.h (a chord's square root at the tangent angles). Where
+// the BTDF's support edges cross the disk (Edge: the cone −ωo·ωi =
+// min(η, 1/η), where f kinks to 0 for η > 1 and 1 − F falls like a square
+// root for η < 1; the rim μi = μo/η, where f jumps to 0), each ray is also
+// cut at its crossings (quadratics in ρ, solved in 50 digits), and ψ at the
+// rays tangent to an edge on the disk (a square root in ψ, smoothed as a
+// cut) and through the points where an edge meets the disk's rim or the
+// other edge (kinks in ψ: the ray's support interval switches its end);
+// those points are sign changes along circles (the rim; the edge μi = μo/η,
+// a circle about p's foot on a disk parallel to the glass) bisected to 50
+// digits. A disk inside the support (DisksLieInsideTheSupport) gets no such
+// cut; each crossing case's disk reaches beyond the edge and inside it
+// (CrossingDisksStraddleTheSupportsEdge).
 //
 // Tolerance: the requirement, 1e-13 relative (kPrecisionTarget), and
 // the library's own bound: each value is computed under an ErrorLedger,
@@ -47,25 +57,39 @@
 // kReferenceDepth bisection levels.
 //
 // Measured (worst relative error; 14 values a case: the radiance and 6 E[Y²]
-// in both conventions; CPU seconds on a shared 2-core machine):
-// default (GlassLightPrecision.*, 15 CPU s in all): Outside (η 1.5, α 0.3,
-// height-correlated, 45°) 2.1e-15, reference 3 s; Inside (η′ 1/1.5, α 0.3,
-// 30°) 4.1e-15, reference 4 s; the controls 7 s. Slow
-// (GlassLightPrecisionSlow.AllCases, 154 values, about 40 CPU s, a reference
-// 1.5 to 6 s): glass_light_test.cpp's 8 geometries, α 0.1 from inside, 41° from
-// inside (0.8° short of the critical angle) and 45° (beyond it): worst
-// 5.2e-14 (232 ε, A01SepOut10, light_area, none); per value radiance
-// 1.8e-14, bsdf 1.8e-14, light_area and light_solid_angle 5.2e-14,
-// mis_balance 2.0e-14, mis_power 1.9e-14, mis_one_sample 1.9e-14; every α ≥
-// 0.3 case at most 4.1e-15, the critical and beyond views 1.2e-15 and
-// 1.0e-15. The ledger's bound at most 3.8e-9 relative, error/bound at most
-// 0.063. The references converged: recomputed at 1e-17 on other nodes
-// (width × 0.37, ψ in 24ths) they moved by at most 2.1e-30, so the errors
-// are the library's (glass_light_test.cpp's double integral found 5.2e-14
-// too). Negative controls (Outside, radiance convention): J without η² in f
-// and p_b misses the radiance by 1.25 and light_area by 4.06; multi-sample
-// MIS without its cross term misses mis_balance by 0.60 and mis_power by
-// 0.51 (each over 1e8 times the ledger's bound).
+// in both conventions; CPU seconds on a shared 2-core machine): default
+// (GlassLightPrecision.*, 17.5 CPU s in all): Outside (η 1.5, α 0.3,
+// height-correlated, 45°) 2.1e-15, reference 2.8 s; Inside (η′ 1/1.5, α
+// 0.3, 30°) 4.1e-15, reference 3.9 s; AcrossTheSupport (A1SepOut70Edge: η
+// 1.5, α 1, separable, 70°, the cone −ωo·ωi = 1/η across a disk off the
+// peak) 5.7e-16, reference 3.4 s, library 0.1 s; the controls 5.6 s; the
+// support checks 1.3 s. Slow (GlassLightPrecisionSlow.*, 52 CPU s): AllCases
+// (154 values, 39 CPU s, a reference 1.4 to 5.5 s): glass_light_test.cpp's 8
+// geometries, α 0.1 from inside, 41° from inside (0.8° short of the
+// critical angle) and 45° (beyond it): worst 5.2e-14 (232 ε, A01SepOut10,
+// light_area, none); per value radiance 1.8e-14, bsdf 1.8e-14, light_area
+// and light_solid_angle 5.2e-14, mis_balance 2.0e-14, mis_power 1.9e-14,
+// mis_one_sample 1.9e-14; every α ≥ 0.3 case at most 4.1e-15, the critical
+// and beyond views 1.2e-15 and 1.0e-15; the ledger's bound at most 3.8e-9
+// relative, error/bound at most 0.063. AcrossTheSupport (28 values, 15 CPU
+// s, references 7.8 and 6.0 s): A03HcOut45Wide (η 1.5, 45°, radius 1.5:
+// the cone crosses the rim and meets the edge μi = μo/η on the disk) and
+// A03HcIn30Wide (η′ 1/1.5, 30°: total internal reflection of ωi across the
+// disk), worst 6.5e-15 (A03HcIn30Wide, mis_power, radiance); per value
+// radiance 1.8e-15, bsdf 1.9e-15, light_area and light_solid_angle 4.7e-15,
+// mis_balance 2.1e-15, mis_power 6.5e-15, mis_one_sample 2.2e-15; bound at
+// most 3.9e-9 relative, error/bound at most 6.2e-6 (with the library's
+// outer angle cut at the tangents alone, not where an edge meets the rim
+// or the other edge, the three crossing cases missed by up to 1.6e-12,
+// within the bound). The references converged: recomputed at 1e-17 on
+// other nodes (width × 0.37, ψ in 24ths; DISABLED_ReferencesConverge, 5
+// CPU minutes) the inside ones moved by at most 2.1e-30, the crossing ones
+// by at most 1.8e-30, so the errors are the library's
+// (glass_light_test.cpp's double integral found 5.2e-14 too). Negative
+// controls (Outside, radiance convention): J without η² in f and p_b misses
+// the radiance by 1.25 and light_area by 4.06; multi-sample MIS without its
+// cross term misses mis_balance by 0.60 and mis_power by 0.51 (each over
+// 1e8 times the ledger's bound).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -104,10 +128,15 @@ constexpr double kPrecisionTarget = 1e-13;
 constexpr double kReferenceTolerance = 1e-15;
 // Bisection levels of a 50-digit integral: the cuts resolve every feature first.
 constexpr int kReferenceDepth = 30;
+// A reference recomputed on other nodes at a tighter tolerance
+// (DISABLED_ReferencesConverge) moves by less than this, relative: far
+// below the library's errors.
+constexpr double kConvergedChange = 1e-20;
 // A defective reference must be missed by more than this.
 constexpr double kControlMiss = 1e-6;
-// The smallest of ωo·m, −ωi·m and n·m a case's disk may reach: away from
-// the support's edge (where f jumps or kinks along a curve no cut follows).
+// How far (in min(ωo·m, −ωi·m, n·m)) an inside case's disk stays inside the
+// BTDF's support, and a crossing case's disk reaches both beyond and inside
+// its edge.
 constexpr double kSupportMargin = 0.05;
 // The light's emitted radiance.
 constexpr double kEmission = 3.0;
@@ -295,19 +324,182 @@ std::optional<std::pair<Big, Big>> lobe_peak(const Geometry& g) {
   return std::make_pair(g.p[0] + reach * t[0] - g.centre[0], g.p[1] + reach * t[1] - g.centre[1]);
 }
 
-// The components over the disk, each nested integral to `tolerance`.
-Values reference(const Case& k, Defect defect, double tolerance = kReferenceTolerance) {
+// ---------------------------------------------------------------------------
+// The BTDF's support edges on the disk's plane.
+
+// An edge of the support as a cone about `axis`: a·ωi = k on it (0 < k < 1).
+// With m ∝ ±(ωo + η ωi), ωo·m > 0 (η > 1) and ωi·m < 0 (η < 1) both read
+// −ωo·ωi > min(η, 1/η): a = −ωo, where f → 0 linearly for η > 1 and 1 − F
+// like a square root (total internal reflection of ωi) for η < 1; n·m > 0
+// reads μi > μo/η for η > 1 (μi < μo/η for η < 1): a = −n, k = μo/η, where
+// D stays α²/π, so f jumps to 0. A point x of the disk's plane is seen along
+// v = x − p and lies on the edge where a·v = k|v|.
+struct Edge {
+  B3 axis;
+  Big k;
+};
+std::vector<Edge> support_edges(const Geometry& g) {
+  std::vector<Edge> edges{{{-g.wo[0], -g.wo[1], -g.wo[2]}, std::min(g.eta, 1 / g.eta)}};
+  const Big rim = g.mu_o / g.eta;
+  if (rim < 1) edges.push_back({{-g.n[0], -g.n[1], -g.n[2]}, rim});  // beyond the far hemisphere otherwise
+  return edges;
+}
+
+// v = x − p for the point (x, y) of the disk's plane relative to its centre.
+B3 seen_from_p(const Geometry& g, const Big& x, const Big& y) {
+  return {g.centre[0] + x - g.p[0], g.centre[1] + y - g.p[1], g.centre[2] - g.p[2]};
+}
+Big off_edge(const Edge& e, const B3& v) { return dot3(e.axis, v) - e.k * sqrt(dot3(v, v)); }
+
+// Along the ray v = v0 + ρe (e = (c, s, 0)), a·v = k|v| squared is
+// qa·ρ² + 2·qb·ρ + qc = 0 with qa = A1² − k², qb = A0·A1 − k²·(v0·e),
+// qc = A0² − k²|v0|², A0 = a·v0, A1 = a·e.
+struct RayQuadratic {
+  Big a0, a1, qa, qb, qc;
+  RayQuadratic(const Edge& e, const B3& v0, const Big& c, const Big& s) {
+    const Big k2 = e.k * e.k;
+    a0 = dot3(e.axis, v0);
+    a1 = e.axis[0] * c + e.axis[1] * s;
+    qa = a1 * a1 - k2;
+    qb = a0 * a1 - k2 * (v0[0] * c + v0[1] * s);
+    qc = a0 * a0 - k2 * dot3(v0, v0);
+  }
+};
+
+// The ρ in (lo, hi) where the ray from the polar centre (qx, qy) at angle
+// (c, s) = (cos ψ, sin ψ) meets the edge (a·v > 0: the squared equation's
+// other nappe is no edge), the roots in the cancellation-free form.
+void ray_crossings(const Geometry& g, const Edge& e, const Big& qx, const Big& qy, const Big& c, const Big& s,
+                   const Big& lo, const Big& hi, std::vector<Big>& out) {
+  const RayQuadratic r(e, seen_from_p(g, qx, qy), c, s);
+  std::vector<Big> roots;
+  if (r.qa == 0) {
+    if (r.qb != 0) roots.push_back(-r.qc / (2 * r.qb));
+  } else {
+    const Big disc = r.qb * r.qb - r.qa * r.qc;
+    if (disc < 0) return;
+    const Big q = r.qb < 0 ? sqrt(disc) - r.qb : -sqrt(disc) - r.qb;
+    if (q != 0) roots.push_back(r.qc / q);
+    roots.push_back(q / r.qa);
+  }
+  for (const Big& rho : roots)
+    if (rho > lo && rho < hi && r.a0 + r.a1 * rho > 0) out.push_back(rho);
+}
+
+// The angles ψ of the rays from (qx, qy) tangent to the edge at a point of
+// the disk (within radius R of its centre). The ray's discriminant qb² −
+// qa·qc is a quadratic form in (c, s): with P = A0·ax − k²·v0x, Q = A0·ay −
+// k²·v0y, E = qc and k² = k²(c² + s²) it reads (Pc + Qs)² − E·((ax² − k²)c²
+// + 2·ax·ay·cs + (ay² − k²)s²) = M + B cos 2ψ + C sin 2ψ, zero where
+// cos(2ψ − atan2(C, B)) = −M/√(B² + C²); the tangent point is the double
+// root ρ = −qb/qa.
+std::vector<Big> tangent_angles(const Geometry& g, const Edge& e, const Big& qx, const Big& qy) {
+  const B3 v0 = seen_from_p(g, qx, qy);
+  const Big k2 = e.k * e.k, a0 = dot3(e.axis, v0), ax = e.axis[0], ay = e.axis[1];
+  const Big p = a0 * ax - k2 * v0[0], q = a0 * ay - k2 * v0[1], big_e = a0 * a0 - k2 * dot3(v0, v0);
+  const Big q11 = p * p - big_e * (ax * ax - k2), q12 = p * q - big_e * ax * ay, q22 = q * q - big_e * (ay * ay - k2);
+  const Big m = (q11 + q22) / 2, b = (q11 - q22) / 2, c = q12, amplitude = sqrt(b * b + c * c);
+  std::vector<Big> out;
+  if (!(amplitude > abs(m))) return out;
+  const Big phase = atan2(c, b), spread = acos(-m / amplitude);
+  for (const Big& twice : {phase - spread, phase + spread})
+    for (const Big& psi : {twice / 2, twice / 2 + g.pi}) {
+      const RayQuadratic r(e, v0, cos(psi), sin(psi));
+      if (r.qa == 0) continue;
+      const Big rho = -r.qb / r.qa, x = qx + rho * cos(psi), y = qy + rho * sin(psi);
+      if (rho > 0 && r.a0 + r.a1 * rho > 0 && x * x + y * y < g.radius * g.radius) out.push_back(psi);
+    }
+  return out;
+}
+
+// Scan steps and bisections of circle_crossings: two crossings within one
+// step (1/2048 of a turn) would take an edge all but tangent to the circle,
+// and 2⁻¹⁸⁰ of a step is below 50 digits.
+constexpr int kCircleScan = 2048;
+constexpr int kCircleBisections = 180;
+
+// The points (x, y) of the circle (x0, y0) + r(cos θ, sin θ) in the disk's
+// plane on the edge: the sign changes of a·v − k|v| over kCircleScan steps
+// of θ, each bisected to 50 digits.
+std::vector<std::pair<Big, Big>> circle_crossings(const Geometry& g, const Edge& e, const Big& x0, const Big& y0,
+                                                  const Big& r) {
+  const auto point = [&](const Big& theta) { return std::make_pair(x0 + r * cos(theta), y0 + r * sin(theta)); };
+  const auto off = [&](const Big& theta) {
+    const auto [x, y] = point(theta);
+    return off_edge(e, seen_from_p(g, x, y));
+  };
+  std::vector<std::pair<Big, Big>> out;
+  Big before = off(Big(0));
+  for (int i = 1; i <= kCircleScan; ++i) {
+    Big lo = 2 * g.pi * (i - 1) / kCircleScan, hi = 2 * g.pi * i / kCircleScan;
+    const Big after = off(hi);
+    if ((before < 0) != (after < 0)) {
+      const bool rising = before < 0;
+      for (int j = 0; j < kCircleBisections; ++j) {
+        const Big mid = (lo + hi) / 2;
+        ((off(mid) < 0) == rising ? lo : hi) = mid;
+      }
+      out.push_back(point((lo + hi) / 2));
+    }
+    before = after;
+  }
+  return out;
+}
+
+// The critical angles of the polar coordinates about (qx, qy) that the
+// support's edges add: the rays tangent to an edge at a point of the disk
+// (the crossings meet: a square root in ψ, which big_quadrature.h's smoothing
+// of each cut removes), and the rays through the points where an edge meets
+// the disk's rim or another edge on the disk (the ray's support interval
+// switches bounds there: a kink). The edge μi = μo/η is a circle about p's
+// foot (its axis is the disk's normal), so both kinds of meeting are
+// crossings of a circle. None for a disk inside the support.
+std::vector<Big> edge_angles(const Geometry& g, const Big& qx, const Big& qy) {
+  const std::vector<Edge> edges = support_edges(g);
+  std::vector<Big> out;
+  std::vector<std::pair<Big, Big>> points;
+  for (const Edge& e : edges) {
+    for (const Big& psi : tangent_angles(g, e, qx, qy)) out.push_back(psi);
+    for (const auto& x : circle_crossings(g, e, Big(0), Big(0), g.radius)) points.push_back(x);
+  }
+  for (const Edge& circle : edges) {
+    if (circle.axis[0] != 0 || circle.axis[1] != 0) continue;  // a cone whose axis is not the disk's normal
+    const B3 foot = seen_from_p(g, Big(0), Big(0));
+    const Big height = dot3(circle.axis, foot);  // a·v, the same over the plane
+    if (!(height > 0)) continue;
+    const Big reach = height / circle.k, radius = sqrt(reach * reach - height * height);
+    for (const Edge& e : edges)
+      if (&e != &circle)
+        for (const auto& [x, y] : circle_crossings(g, e, g.p[0] - g.centre[0], g.p[1] - g.centre[1], radius))
+          if (x * x + y * y < g.radius * g.radius) points.emplace_back(x, y);
+  }
+  for (const auto& [x, y] : points) out.push_back(atan2(y - qy, x - qx));
+  return out;
+}
+
+// Where a reference puts its nodes: the relative tolerance of each nested
+// integral, the graded cuts along a ray at width·width_scale·2^k, and the
+// outer angle about a peak on the disk cut in turn_parts equal parts.
+struct Nodes {
+  double tolerance = kReferenceTolerance;
+  double width_scale = 1;
+  int turn_parts = 8;
+};
+
+// The components over the disk.
+Values reference(const Case& k, Defect defect, const Nodes& nodes = {}) {
   const CaseScene c = scene_of(k);
   const Geometry g(k, c, defect);
+  const std::vector<Edge> edges = support_edges(g);
   // The polar centre (qx, qy) relative to the disk's centre: the lobe's
   // peak, or the centre itself past the critical angle.
   const auto peak = lobe_peak(g);
   const Big qx = peak ? peak->first : Big(0), qy = peak ? peak->second : Big(0);
   const Big q2 = qx * qx + qy * qy, r2 = g.radius * g.radius;
   const bool centred_inside = q2 < r2;
-  const Big width = Big(k.alpha) * Big(k.depth) / 4;
+  const Big width = Big(k.alpha) * Big(k.depth) / 4 * Big(nodes.width_scale);
   const auto integrate = [&](const big_quadrature::Integrand<Values>& f, std::vector<Big> cuts) {
-    return big_quadrature::integrate(f, std::move(cuts), tolerance, kReferenceDepth);
+    return big_quadrature::integrate(f, std::move(cuts), nodes.tolerance, kReferenceDepth);
   };
   const auto ray = [&](const Big& psi) {
     const Big cs = cos(psi), sn = sin(psi);
@@ -319,6 +511,7 @@ Values reference(const Case& k, Defect defect, double tolerance = kReferenceTole
     if (!(hi > lo)) return Values{};
     std::vector<Big> cuts{lo, hi};
     for (Big t = width; lo + t < hi; t *= 2) cuts.push_back(lo + t);
+    for (const Edge& e : edges) ray_crossings(g, e, qx, qy, cs, sn, lo, hi, cuts);  // f's kink or jump
     return integrate(
         [&](const Big& rho) {
           Values v = at_point(g, qx + rho * cs, qy + rho * sn);
@@ -329,32 +522,43 @@ Values reference(const Case& k, Defect defect, double tolerance = kReferenceTole
   };
   const Big pi = g.pi;
   std::vector<Big> psi_cuts;
+  Big first, last;  // the outer angle's range
   if (centred_inside) {
-    for (int i = 0; i <= 8; ++i) psi_cuts.push_back(pi * i / 4);  // the lobe is smooth in ψ: eighths
+    // The lobe is smooth in ψ: equal parts of the turn (eighths by default).
+    for (int i = 0; i <= nodes.turn_parts; ++i) psi_cuts.push_back(2 * pi * i / nodes.turn_parts);
+    first = 0, last = 2 * pi;
   } else {
     // The disk's angular extent seen from the peak, graded towards the centre's direction.
     const Big towards = atan2(-qy, -qx), half = asin(g.radius / sqrt(q2));
     psi_cuts = {towards - half, towards, towards + half};
     for (Big t = width / sqrt(q2); t < half; t *= 2) psi_cuts.push_back(towards - t), psi_cuts.push_back(towards + t);
+    first = towards - half, last = towards + half;
+  }
+  for (Big psi : edge_angles(g, qx, qy)) {
+    while (psi < first) psi += 2 * pi;
+    while (psi >= first + 2 * pi) psi -= 2 * pi;
+    if (psi > first && psi < last) psi_cuts.push_back(psi);
   }
   return integrate(ray, psi_cuts);
 }
 
-// The smallest support margin over the disk (its centre and 2000 points on
-// each of two circles), in 50 digits.
-double support_margin(const Case& k) {
+// The smallest and the largest support margin over the disk (its centre and
+// 2000 points on each of two circles), in 50 digits: an edge crosses the disk
+// where they straddle 0.
+std::pair<double, double> support_margin_range(const Case& k) {
   const CaseScene c = scene_of(k);
   const Geometry g(k, c, Defect::kNone);
-  Big worst = 1;
+  Big lo = 1, hi = -1;
   for (int i = 0; i < 2000; ++i) {
     const Big a = 2 * g.pi * i / 2000;
     for (const Big& r : {g.radius, g.radius / 2, Big(0)}) {
-      const B3 to = {g.centre[0] + r * cos(a) - g.p[0], g.centre[1] + r * sin(a) - g.p[1], g.centre[2] - g.p[2]};
+      const B3 to = seen_from_p(g, r * cos(a), r * sin(a));
       const Big d = sqrt(dot3(to, to));
-      worst = std::min(worst, g.support_margin({to[0] / d, to[1] / d, to[2] / d}));
+      const Big margin = g.support_margin({to[0] / d, to[1] / d, to[2] / d});
+      lo = std::min(lo, margin), hi = std::max(hi, margin);
     }
   }
-  return static_cast<double>(worst);
+  return {static_cast<double>(lo), static_cast<double>(hi)};
 }
 
 // ---------------------------------------------------------------------------
@@ -447,11 +651,28 @@ void check_case(const Case& k, const Values& ref, Worst& worst) {
   }
 }
 
-void sweep(const char* what, const std::vector<Case>& cases) {
+// Where a sweep's disks lie: wholly inside the BTDF's support, or across its edge.
+enum class Support { kInside, kCrossed };
+
+// A case's precondition: its disk inside the support by more than
+// kSupportMargin everywhere, or (crossed) some of it outside by more than
+// kSupportMargin and some inside by more. Prints the margins; false if unmet.
+bool expect_support(const Case& k, Support support) {
+  const auto [lo, hi] = support_margin_range(k);
+  std::printf("  %-18s min(wo.m, -wi.m, n.m) on the disk from %.3g to %.3g\n", k.name.c_str(), lo, hi);
+  if (support == Support::kInside) {
+    EXPECT_GT(lo, kSupportMargin) << k.name << ": the disk reaches the BTDF's support's edge";
+    return lo > kSupportMargin;
+  }
+  EXPECT_LT(lo, -kSupportMargin) << k.name << ": the disk does not reach past the support's edge";
+  EXPECT_GT(hi, kSupportMargin) << k.name << ": the disk does not reach into the support";
+  return lo < -kSupportMargin && hi > kSupportMargin;
+}
+
+void sweep(const char* what, const std::vector<Case>& cases, Support support = Support::kInside) {
   Worst worst;
   for (const Case& k : cases) {
-    const double margin = support_margin(k);
-    ASSERT_GT(margin, kSupportMargin) << k.name << ": the disk reaches the BTDF's support's edge";
+    if (!expect_support(k, support)) return;
     const double start = cpu_seconds();
     const Values ref = reference(k, Defect::kNone);
     const double seconds = cpu_seconds() - start;
@@ -508,15 +729,29 @@ const std::vector<Case>& slow_cases() {
   return all;
 }
 
+// glass_light_test.cpp's disks the support's edges cross (its
+// crossing_cases()): η 1.5 from outside at 45°, the cone −ωo·ωi = 1/η
+// crossing a wide disk's rim and the rim μi = μo/η (a circle inside it)
+// meeting the cone on the disk; at 70° the cone alone across a disk off the
+// peak; from inside at 30° (η′ = 1/1.5: the cone −ωo·ωi = η′ is total
+// internal reflection of ωi, the rim outside the far hemisphere).
+const Case kOut45Wide{"A03HcOut45Wide", 0.3, kHeightCorrelated, 45, false, 0.6, 0.0, 1.5};
+const Case kOut70Edge{"A1SepOut70Edge", 1.0, kSeparable, 70, false, 0.5, 0.9, 0.8};
+const Case kIn30Wide{"A03HcIn30Wide", 0.3, kHeightCorrelated, 30, true, 0.6, 0.3, 1.2};
+const std::vector<Case>& crossing_cases() {
+  static const std::vector<Case> all = {kOut45Wide, kOut70Edge, kIn30Wide};
+  return all;
+}
+
 // ---------------------------------------------------------------------------
 // Default run.
 
 TEST(GlassLightPrecision, DisksLieInsideTheSupport) {
-  for (const Case& k : slow_cases()) {
-    const double margin = support_margin(k);
-    std::printf("  %-18s smallest of wo.m, -wi.m, n.m on the disk: %.3g\n", k.name.c_str(), margin);
-    EXPECT_GT(margin, kSupportMargin) << k.name;
-  }
+  for (const Case& k : slow_cases()) expect_support(k, Support::kInside);
+}
+
+TEST(GlassLightPrecision, CrossingDisksStraddleTheSupportsEdge) {
+  for (const Case& k : crossing_cases()) expect_support(k, Support::kCrossed);
 }
 
 TEST(GlassLightPrecision, Outside) { sweep("eta 1.5 outside, alpha 0.3, 45 deg", {kOut45}); }
@@ -554,11 +789,39 @@ TEST(GlassLightPrecision, DefectiveReferencesAreMissed) {
   }
 }
 
+TEST(GlassLightPrecision, AcrossTheSupport) {
+  sweep("eta 1.5 across the edges, 70 deg, alpha 1", {kOut70Edge}, Support::kCrossed);
+}
+
 // ---------------------------------------------------------------------------
 // The wide set (label slow).
 
 TEST(GlassLightPrecisionSlow, AllCases) {
   sweep("alpha 0.1..1, outside and inside, near critical", slow_cases());
+}
+
+// Every reference against itself at a tolerance 100 times tighter on other
+// nodes (graded cuts at 0.37 of the width, the turn in 24ths): the largest
+// relative change of a component per case (run on demand:
+// --gtest_also_run_disabled_tests).
+TEST(GlassLightPrecisionSlow, DISABLED_ReferencesConverge) {
+  std::vector<Case> all = slow_cases();
+  all.insert(all.end(), crossing_cases().begin(), crossing_cases().end());
+  for (const Case& k : all) {
+    const double start = cpu_seconds();
+    const Values first = reference(k, Defect::kNone), second = reference(k, Defect::kNone, {1e-17, 0.37, 24});
+    double change = 0;
+    for (size_t c = 0; c < kComponents; ++c)
+      if (second[c] != 0) change = std::max(change, static_cast<double>(abs((first[c] - second[c]) / second[c])));
+    std::printf("  %-18s references moved by at most %.3g relative (%.1f CPU s)\n", k.name.c_str(), change,
+                cpu_seconds() - start);
+    std::fflush(stdout);
+    EXPECT_LT(change, kConvergedChange) << k.name;
+  }
+}
+
+TEST(GlassLightPrecisionSlow, AcrossTheSupport) {
+  sweep("eta 1.5 and 1/1.5 across the edges, wide", {kOut45Wide, kIn30Wide}, Support::kCrossed);
 }
 
 }  // namespace
