@@ -114,6 +114,8 @@
 #include "core/scene.h"
 #include "core/strategy.h"
 #include "tests/analytic/big_quadrature.h"
+#include "tests/analytic/glass_light_cases.h"
+#include "tests/analytic/mis_components.h"
 
 namespace furnace::analytic {
 namespace {
@@ -141,16 +143,9 @@ constexpr double kSupportMargin = 0.05;
 // The light's emitted radiance.
 constexpr double kEmission = 3.0;
 
-struct Case {
-  std::string name;
-  double alpha;
-  MicrofacetShadowing shadowing;
-  double view_degrees;  // θo from the normal on the viewer's side
-  bool from_inside;     // viewer behind the glass's front normal (η′ = 1/1.5), light in front
-  double depth;         // the disk's distance from the glass's plane
-  double offset;        // the disk centre's y (the view's azimuth is −y)
-  double radius;
-};
+using glass_light_cases::Case;
+using glass_light_cases::kHeightCorrelated;
+
 
 // The library's inputs (doubles): glass in z = 0 (front normal +z, η 1.5),
 // a one-sided disk light parallel to it facing the glass, the point p and
@@ -187,24 +182,8 @@ enum class Defect {
   kJacobianWithoutEta2  // J = |ωi·m|/(η ωi·m + ωo·m)², in f and p_b alike (pbrt-v4 before dfa11074)
 };
 
-// Integrated together (at s = 1): ∫h (the mean), ∫h²/p_b, ∫h²/p_l,
-// ∫h²/(c p_b + (1 − c) p_l), and per heuristic (balance, power) the four
-// pieces of multi-sample MIS: ∫w_b²h²/p_b, ∫w_l²h²/p_l, ∫w_b h, ∫w_l h.
-enum Component : size_t {
-  kMean,
-  kBsdf,
-  kLight,
-  kOneSample,
-  kBalanceBsdf,
-  kBalanceLight,
-  kBalanceWeightedBsdf,
-  kBalanceWeightedLight,
-  kPowerBsdf,
-  kPowerLight,
-  kPowerWeightedBsdf,
-  kPowerWeightedLight,
-  kComponents
-};
+// Integrated together (at s = 1): the components of mis_components.h.
+using namespace mis_components;  // Component: mis_components.h
 using Values = std::array<Big, kComponents>;
 
 // A case in 50 digits: the scene's exact η (1.5 or 1/1.5), the doubles the
@@ -701,47 +680,29 @@ void sweep(const char* what, const std::vector<Case>& cases, Support support = S
               worst.widest_bound, worst.coverage);
 }
 
-constexpr MicrofacetShadowing kSeparable = MicrofacetShadowing::kSeparable;
-constexpr MicrofacetShadowing kHeightCorrelated = MicrofacetShadowing::kHeightCorrelated;
-
-// glass_light_test.cpp's geometries (the disk centred near the lobe's peak
-// unless named Tail).
-const Case kOut45{"A03HcOut45", 0.3, kHeightCorrelated, 45, false, 0.6, 0.27, 0.25};
-const Case kIn30{"A03HcIn30", 0.3, kHeightCorrelated, 30, true, 0.6, 0.63, 0.3};  // η′ = 1/1.5
+// glass_light_test.cpp's geometries (glass_light_cases.h) and three more.
+const Case& kOut45 = glass_light_cases::inside_support()[1];  // A03HcOut45
+const Case& kIn30 = glass_light_cases::inside_support()[6];   // A03HcIn30, η′ = 1/1.5
 const std::vector<Case>& slow_cases() {
-  static const std::vector<Case> all = {
-      {"A01HcOut45", 0.1, kHeightCorrelated, 45, false, 0.6, 0.27, 0.25},
-      kOut45,
-      {"A03SepOut45", 0.3, kSeparable, 45, false, 0.6, 0.27, 0.25},
-      {"A1HcOut45", 1.0, kHeightCorrelated, 45, false, 0.6, 0.27, 0.25},
-      {"A03HcOut70Tail", 0.3, kHeightCorrelated, 70, false, 0.5, 0.6, 0.15},  // peak off the disk
-      {"A01SepOut10", 0.1, kSeparable, 10, false, 1.0, 0.0, 0.5},
-      kIn30,
-      {"A1SepIn20", 1.0, kSeparable, 20, true, 0.5, 0.3, 0.2},
-      // α 0.1 from inside, and 41° from inside (the critical angle is
-      // 41.81°): Snell's direction 79.8° from the normal, the disk about its hit.
-      {"A01HcIn30", 0.1, kHeightCorrelated, 30, true, 0.6, 0.63, 0.3},
-      {"A03HcIn41Critical", 0.3, kHeightCorrelated, 41, true, 0.5, 2.72, 0.4},
-      // Beyond it (45°): the macro interface reflects ωo totally, no peak
-      // (polar about the disk's centre, 60° from the far side's normal).
-      {"A03HcIn45Beyond", 0.3, kHeightCorrelated, 45, true, 0.5, 0.82, 0.3},
-  };
+  static const std::vector<Case> all = [] {
+    std::vector<Case> v = glass_light_cases::inside_support();
+    // α 0.1 from inside, and 41° from inside (the critical angle is
+    // 41.81°): Snell's direction 79.8° from the normal, the disk about its hit.
+    v.push_back({"A01HcIn30", 0.1, kHeightCorrelated, 30, true, 0.6, 0.63, 0.3});
+    v.push_back({"A03HcIn41Critical", 0.3, kHeightCorrelated, 41, true, 0.5, 2.72, 0.4});
+    // Beyond it (45°): the macro interface reflects ωo totally, no peak
+    // (polar about the disk's centre, 60° from the far side's normal).
+    v.push_back({"A03HcIn45Beyond", 0.3, kHeightCorrelated, 45, true, 0.5, 0.82, 0.3});
+    return v;
+  }();
   return all;
 }
 
-// glass_light_test.cpp's disks the support's edges cross (its
-// crossing_cases()): η 1.5 from outside at 45°, the cone −ωo·ωi = 1/η
-// crossing a wide disk's rim and the rim μi = μo/η (a circle inside it)
-// meeting the cone on the disk; at 70° the cone alone across a disk off the
-// peak; from inside at 30° (η′ = 1/1.5: the cone −ωo·ωi = η′ is total
-// internal reflection of ωi, the rim outside the far hemisphere).
-const Case kOut45Wide{"A03HcOut45Wide", 0.3, kHeightCorrelated, 45, false, 0.6, 0.0, 1.5};
-const Case kOut70Edge{"A1SepOut70Edge", 1.0, kSeparable, 70, false, 0.5, 0.9, 0.8};
-const Case kIn30Wide{"A03HcIn30Wide", 0.3, kHeightCorrelated, 30, true, 0.6, 0.3, 1.2};
-const std::vector<Case>& crossing_cases() {
-  static const std::vector<Case> all = {kOut45Wide, kOut70Edge, kIn30Wide};
-  return all;
-}
+// The disks the support's edges cross (glass_light_cases.h).
+const std::vector<Case>& crossing_cases() { return glass_light_cases::crossing_support(); }
+const Case& kOut45Wide = glass_light_cases::crossing_support()[0];
+const Case& kOut70Edge = glass_light_cases::crossing_support()[1];
+const Case& kIn30Wide = glass_light_cases::crossing_support()[2];
 
 // ---------------------------------------------------------------------------
 // Default run.

@@ -37,6 +37,7 @@
 #include "core/fresnel.h"
 #include "core/scene.h"
 #include "core/strategy.h"
+#include "tests/analytic/glass_light_cases.h"
 #include "tests/analytic/nested_components.h"
 
 namespace furnace::analytic {
@@ -46,16 +47,7 @@ constexpr double kAgreement = 1e-8;
 constexpr double kIndependentTolerance = 1e-8;
 constexpr double kEmission = 3.0;
 
-struct Case {
-  std::string name;
-  double alpha;
-  MicrofacetShadowing shadowing;
-  double view_degrees;  // θo from the normal on the viewer's side
-  bool from_inside;     // viewer behind the glass's front normal (η′ = 1/η), light in front
-  double depth;         // the disk's distance from the glass's plane
-  double offset;        // the disk centre's shift along the view's azimuth (0: below the point)
-  double radius;
-};
+using glass_light_cases::Case;
 
 // The independent BTDF: f·|cos θi| and the sampling density, from vectors.
 struct Btdf {
@@ -213,57 +205,12 @@ Values independent(const Case& c, TransportConvention convention, bool without_e
   return total;
 }
 
-// Every disk lies wholly where the BTDF is non-zero for the case's point and
-// view (ωo·m > 0, ωi·m < 0, n·m > 0 at every disk point: checked by
-// DisksLieInsideTheSupport below); crossing_cases() are the disks the
-// support's edges cross.
-const std::vector<Case>& cases() {
-  static const std::vector<Case> all = {
-      {"A01HcOut45", 0.1, MicrofacetShadowing::kHeightCorrelated, 45, false, 0.6, 0.27, 0.25},
-      {"A03HcOut45", 0.3, MicrofacetShadowing::kHeightCorrelated, 45, false, 0.6, 0.27, 0.25},
-      {"A03SepOut45", 0.3, MicrofacetShadowing::kSeparable, 45, false, 0.6, 0.27, 0.25},
-      {"A1HcOut45", 1.0, MicrofacetShadowing::kHeightCorrelated, 45, false, 0.6, 0.27, 0.25},
-      {"A03HcOut70Tail", 0.3, MicrofacetShadowing::kHeightCorrelated, 70, false, 0.5, 0.6, 0.15},  // peak off the disk
-      {"A01SepOut10", 0.1, MicrofacetShadowing::kSeparable, 10, false, 1.0, 0.0, 0.5},
-      {"A03HcIn30", 0.3, MicrofacetShadowing::kHeightCorrelated, 30, true, 0.6, 0.63, 0.3},  // η′ = 1/1.5
-      {"A1SepIn20", 1.0, MicrofacetShadowing::kSeparable, 20, true, 0.5, 0.3, 0.2},
-  };
-  return all;
-}
-
-// The cases' precondition: the smallest of ωo·m, −ωi·m and n·m over the
-// disk (its centre, and 2000 points on each of two circles) is positive.
-TEST(GlassLightReference, DisksLieInsideTheSupport) {
-  for (const Case& c : cases()) {
-    const CaseGeometry u = setup_of(c);
-    double worst = INFINITY;
-    for (int k = 0; k < 2000; ++k) {
-      const double a = 2 * kPi * k / 2000;
-      for (double r : {c.radius, c.radius / 2, 0.0}) {
-        const Vec3 wi = normalize(u.disk.center + Vec3{r * std::cos(a), r * std::sin(a), 0} - u.p);
-        Vec3 m = normalize(u.wo + wi * u.eta);
-        if (dot(m, u.n) < 0) m = -m;
-        worst = std::fmin(worst, std::fmin(dot(u.wo, m), std::fmin(-dot(wi, m), dot(u.n, m))));
-      }
-    }
-    EXPECT_GT(worst, 0.05) << c.name;
-  }
-}
-
-// Disks the support's edges cross (the class the library cuts at, by its
-// receiver's support_edges(): each ray at its crossings, the outer angle at
-// the rays tangent to an edge): η 1.5 from outside at 45°, the cone −ωo·ωi
-// = 1/η and the rim μi = μo/η both crossing a wide disk; the same at 70°
-// with a disk off-centre; from inside at 30° (η′ = 1/1.5: the cone −ωo·ωi
-// = η′ is total internal reflection of ωi, the rim outside the hemisphere).
-const std::vector<Case>& crossing_cases() {
-  static const std::vector<Case> all = {
-      {"A03HcOut45Wide", 0.3, MicrofacetShadowing::kHeightCorrelated, 45, false, 0.6, 0.0, 1.5},
-      {"A1SepOut70Edge", 1.0, MicrofacetShadowing::kSeparable, 70, false, 0.5, 0.9, 0.8},
-      {"A03HcIn30Wide", 0.3, MicrofacetShadowing::kHeightCorrelated, 30, true, 0.6, 0.3, 1.2},
-  };
-  return all;
-}
+// The disks wholly inside the BTDF's support for their point and view
+// (ωo·m > 0, ωi·m < 0, n·m > 0 at every disk point: checked by
+// DisksLieInsideTheSupport below), and the disks its edges cross
+// (glass_light_cases.h; the library cuts at the edges).
+const std::vector<Case>& cases() { return glass_light_cases::inside_support(); }
+const std::vector<Case>& crossing_cases() { return glass_light_cases::crossing_support(); }
 
 // The smallest and the largest of min(ωo·m, −ωi·m, n·m) over the disk (its
 // centre and 2000 points on each of two circles): the support's edge crosses
@@ -282,6 +229,11 @@ std::pair<double, double> support_margin_range(const Case& c) {
     }
   }
   return {lo, hi};
+}
+
+// The cases' precondition: the smallest margin is positive.
+TEST(GlassLightReference, DisksLieInsideTheSupport) {
+  for (const Case& c : cases()) EXPECT_GT(support_margin_range(c).first, 0.05) << c.name;
 }
 
 TEST(GlassLightReference, CrossingDisksStraddleTheSupportsEdge) {
@@ -330,33 +282,35 @@ void expect_matches_independent(const Case& c, TransportConvention convention) {
               c.name.c_str(), transport_convention_name(convention).c_str(), v[kMean], worst, bound);
 }
 
-class GlassLightReference : public testing::TestWithParam<std::tuple<size_t, TransportConvention>> {};
+using CaseParam = std::tuple<size_t, TransportConvention>;
+
+// Every case of a list in both conventions, and the test's name: the case's and the convention's.
+auto params_of(const std::vector<Case>& list) {
+  return testing::Combine(testing::Range(size_t(0), list.size()),
+                          testing::Values(TransportConvention::kRadiance, TransportConvention::kNone));
+}
+template <const std::vector<Case>& (*List)()>
+std::string param_name(const testing::TestParamInfo<CaseParam>& info) {
+  return List()[std::get<0>(info.param)].name +
+         (std::get<1>(info.param) == TransportConvention::kRadiance ? "Radiance" : "None");
+}
+
+class GlassLightReference : public testing::TestWithParam<CaseParam> {};
 
 TEST_P(GlassLightReference, MatchesAnIntegralOverTheDisk) {
   expect_matches_independent(cases()[std::get<0>(GetParam())], std::get<1>(GetParam()));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, GlassLightReference,
-                         testing::Combine(testing::Range(size_t(0), cases().size()),
-                                          testing::Values(TransportConvention::kRadiance, TransportConvention::kNone)),
-                         [](const auto& info) {
-                           return cases()[std::get<0>(info.param)].name +
-                                  (std::get<1>(info.param) == TransportConvention::kRadiance ? "Radiance" : "None");
-                         });
+INSTANTIATE_TEST_SUITE_P(Cases, GlassLightReference, params_of(cases()), param_name<cases>);
 
-class GlassLightAcrossTheSupport : public testing::TestWithParam<std::tuple<size_t, TransportConvention>> {};
+class GlassLightAcrossTheSupport : public testing::TestWithParam<CaseParam> {};
 
 TEST_P(GlassLightAcrossTheSupport, MatchesAnIntegralOverTheDisk) {
   expect_matches_independent(crossing_cases()[std::get<0>(GetParam())], std::get<1>(GetParam()));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, GlassLightAcrossTheSupport,
-                         testing::Combine(testing::Range(size_t(0), crossing_cases().size()),
-                                          testing::Values(TransportConvention::kRadiance, TransportConvention::kNone)),
-                         [](const auto& info) {
-                           return crossing_cases()[std::get<0>(info.param)].name +
-                                  (std::get<1>(info.param) == TransportConvention::kRadiance ? "Radiance" : "None");
-                         });
+INSTANTIATE_TEST_SUITE_P(Cases, GlassLightAcrossTheSupport, params_of(crossing_cases()),
+                         param_name<crossing_cases>);
 
 // Negative control: the independent integral with f and pdf both without η²
 // misses the reference's radiance and its light_area E[Y²] by far more than

@@ -152,6 +152,7 @@
 
 #include "analytic/error_ledger.h"
 #include "tests/analytic/big_quadrature.h"
+#include "tests/analytic/mis_components.h"
 #include "analytic/glass.h"
 #include "core/error.h"
 #include "core/material.h"
@@ -177,28 +178,10 @@ constexpr double kControlTolerance = 1e-10;
 
 Big pi_big() { return boost::math::constants::pi<Big>(); }
 
-// Per lobe, integrated together, with h = f·|cos θi| (transmission's
-// unscaled by s: the weights do not depend on s, so a quadratic component
-// scales by s², a linear one by s): ∫h (the albedo), ∫h²/p_b (bsdf),
-// ∫h²/p_l (light alone), ∫h²/(c p_b + (1 − c) p_l) (one-sample), and per
-// heuristic exponent β = 1 (balance) and 2 (power) the four pieces of
-// multi-sample MIS: ∫w_b² h²/p_b, ∫w_l² h²/p_l, ∫w_b h, ∫w_l h, with
-// w_b = p_b^β/(p_b^β + p_l^β), w_l = p_l^β/(p_b^β + p_l^β).
-enum Component : size_t {
-  kMean,
-  kBsdf,
-  kLight,
-  kOneSample,
-  kBalanceBsdf,
-  kBalanceLight,
-  kBalanceWeightedBsdf,
-  kBalanceWeightedLight,
-  kPowerBsdf,
-  kPowerLight,
-  kPowerWeightedBsdf,
-  kPowerWeightedLight,
-  kComponents
-};
+// Per lobe, integrated together: the components of mis_components.h
+// (transmission's unscaled by s: the weights do not depend on s, so a
+// quadratic component scales by s², a linear one by s).
+using namespace mis_components;  // Component: mis_components.h
 using Values = std::array<Big, kComponents>;
 
 enum class Defect {
