@@ -113,6 +113,7 @@
 #include "analytic/glass_light.h"
 #include "core/scene.h"
 #include "core/strategy.h"
+#include "tests/analytic/big_fresnel.h"
 #include "tests/analytic/big_quadrature.h"
 #include "tests/analytic/glass_light_cases.h"
 #include "tests/analytic/mis_components.h"
@@ -215,14 +216,8 @@ struct Geometry {
     g1o = 1 / (1 + lambda_o);
   }
   Big lambda(const Big& mu) const { return (sqrt(1 + alpha * alpha * (1 - mu * mu) / (mu * mu)) - 1) / 2; }
-  // Fresnel at cos θ = c from the s and p amplitudes, θt by Snell's law.
-  Big fresnel(const Big& c) const {
-    const Big sin_t2 = (1 - c * c) / (eta * eta);
-    if (sin_t2 >= 1) return Big(1);
-    const Big ct = sqrt(1 - sin_t2);
-    const Big rs = (c - eta * ct) / (c + eta * ct), rp = (eta * c - ct) / (eta * c + ct);
-    return (rs * rs + rp * rp) / 2;
-  }
+  // Fresnel at cos θ = c (big_fresnel.h).
+  Big fresnel(const Big& c) const { return big_fresnel::dielectric(c, eta); }
   // The microfacet normal of the refraction pair (ωo, ωi) with n·m > 0.
   B3 half_vector(const B3& wi) const {
     B3 m = {wo[0] + eta * wi[0], wo[1] + eta * wi[1], wo[2] + eta * wi[2]};

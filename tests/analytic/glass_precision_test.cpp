@@ -151,6 +151,7 @@
 #include <gtest/gtest.h>
 
 #include "analytic/error_ledger.h"
+#include "tests/analytic/big_fresnel.h"
 #include "tests/analytic/big_quadrature.h"
 #include "tests/analytic/mis_components.h"
 #include "analytic/glass.h"
@@ -231,14 +232,8 @@ struct Geometry {
     const Big q = alpha * alpha * m[2] * m[2] + m[0] * m[0] + m[1] * m[1];
     return alpha * alpha / (pi_big() * q * q);
   }
-  // Fresnel at cos θ = c from the s and p amplitudes, θt by Snell's law.
-  Big fresnel(const Big& c) const {
-    const Big sin_t2 = (1 - c * c) / (eta * eta);
-    if (sin_t2 >= 1) return Big(1);
-    const Big ct = sqrt(1 - sin_t2);
-    const Big rs = (c - eta * ct) / (c + eta * ct), rp = (eta * c - ct) / (eta * c + ct);
-    return (rs * rs + rp * rp) / 2;
-  }
+  // Fresnel at cos θ = c (big_fresnel.h).
+  Big fresnel(const Big& c) const { return big_fresnel::dielectric(c, eta); }
 };
 
 Big dot3(const Big* a, const Big* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
