@@ -543,18 +543,17 @@ using AlbedoMemo = std::map<std::tuple<size_t, bool, double>, InterfaceAlbedo>;
 using MisMemo = std::map<std::tuple<size_t, bool, double>, InterfaceMisMoments>;
 using LobeMemo = std::map<std::tuple<size_t, bool, double>, InterfaceLobeMoments>;
 
-// E[Y²]/a² of `strategy` at an interface under `env`: for a constant
-// environment in units of L² (the caller multiplies by L²: the bsdf
-// strategy's from the albedo, the others from
-// dielectric_interface_mis_moments at unit radiance); under a sky on one
-// side in absolute units (bsdf's from the lobes' shares, the others under
-// the map's light density). Memoised per (object, side, μ).
+// E[Y²]/a² of `strategy` at an interface under `env` (a constant
+// environment, view = far = L, or a sky on one side): bsdf's from the
+// albedo's E[Y²] times L², or under a sky from the lobes' shares; the others
+// from dielectric_interface_mis_moments under `env`. Memoised per (object,
+// side, μ).
 double interface_second_moment(const Scene& scene, Strategy strategy, const Dielectric& d, double eta, double mu,
                                TransportConvention convention, const InterfaceAlbedo& albedo,
                                const InterfaceEnvironment& env, const std::tuple<size_t, bool, double>& key,
                                MisMemo& memo, LobeMemo& lobe_memo) {
   if (strategy == Strategy::kBsdf) {
-    if (!env.map) return albedo.second_moment;
+    if (!env.map) return env.view * env.view * albedo.second_moment;
     auto it = lobe_memo.find(key);
     if (it == lobe_memo.end())
       it = lobe_memo.emplace(key, dielectric_interface_lobe_moments(d, eta, mu, convention)).first;
@@ -564,9 +563,7 @@ double interface_second_moment(const Scene& scene, Strategy strategy, const Diel
   if (light && d.smooth()) refuse(scene, "light sampling alone cannot find a smooth interface's delta lobe");
   auto it = memo.find(key);
   if (it == memo.end())
-    it = memo.emplace(key, env.map ? dielectric_interface_mis_moments(d, eta, mu, convention, env)
-                                   : dielectric_interface_mis_moments(d, eta, mu, convention))
-             .first;
+    it = memo.emplace(key, dielectric_interface_mis_moments(d, eta, mu, convention, env)).first;
   const InterfaceMisMoments& m = it->second;
   switch (strategy) {
     case Strategy::kMisBalance: return m.balance;
@@ -628,12 +625,10 @@ double glass_pixel(const Scene& scene, const Vec3& origin, const Vec3& direction
   // A constant environment, or a sky on one side: each lobe sees its own side's radiance.
   const InterfaceEnvironment env = interface_environment(scene, in_front ? hit->normal : -hit->normal);
   if (second_moment) {
-    const double m2 =
-        interface_second_moment(scene, *second_moment, d, eta, mu, convention, e, env, key, mis_memo, lobe_memo);
-    return env.map ? a * a * m2 : a * a * l_env * l_env * m2;
+    return a * a *
+           interface_second_moment(scene, *second_moment, d, eta, mu, convention, e, env, key, mis_memo, lobe_memo);
   }
-  if (env.map) return a * (env.view * e.reflection + s * env.far * e.transmission);
-  return a * l_env * (e.reflection + s * e.transmission);
+  return a * (env.view * e.reflection + s * env.far * e.transmission);
 }
 
 }  // namespace

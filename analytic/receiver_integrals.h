@@ -321,6 +321,36 @@ inline void edge_corners(const SupportEdge& e1, const SupportEdge& e2, const Pla
   }
 }
 
+// The polar angles φ about the region's centre where the outer integrand of
+// plane_integral is not smooth because of the support edges: the rays
+// tangent to an edge (a square root in φ), through the points where an edge
+// meets the region's boundary, and through the points inside the region
+// where two edges meet (there a ray's interval inside the support turns
+// from ending at one to ending at the other: kinks in φ). Unreduced: any
+// turn.
+inline std::vector<double> support_edge_angles(const std::vector<SupportEdge>& support_edges,
+                                               const PlanarEmitter& light, const PolarRegion& region) {
+  const double cx = region.centre().x, cy = region.centre().y, h = light.height;
+  std::vector<double> angles;
+  for (const SupportEdge& edge : support_edges) {
+    const EdgeInPlane e(edge, light);
+    edge_tangent_angles(e, cx, cy, h, angles);
+    for (const Curve2& curve : light.boundary) edge_boundary_angles(e, curve, cx, cy, h, angles);
+  }
+  std::vector<Point2> corners;
+  for (size_t i = 0; i < support_edges.size(); ++i)
+    for (size_t j = i + 1; j < support_edges.size(); ++j) edge_corners(support_edges[i], support_edges[j], light, corners);
+  std::vector<std::pair<double, double>> spans;
+  for (const Point2& x : corners) {
+    const double dx = x.x - cx, dy = x.y - cy, rho = std::hypot(dx, dy);
+    if (!(rho > 0)) continue;
+    region.intervals(dx / rho, dy / rho, spans);
+    for (const auto& [lo, hi] : spans)
+      if (rho > lo && rho < hi) angles.push_back(std::atan2(dy, dx));
+  }
+  return angles;
+}
+
 // ∫ g(Direction) dω over a planar light's visible region (receiver_planar.h),
 // in polar coordinates (ρ, φ) about the lobe's peak direction's hit point C
 // on the light's plane (R::lobe_centre(), the mirror direction unless R says
@@ -385,38 +415,17 @@ double plane_integral(const PlanarEmitter& light, const R& receiver, G g) {
     reached.inner(sum, ray_error);
     return sum;
   };
-  // The region's critical angles, and within their turn the support edges'
-  // tangent rays, their meetings with the region's boundary and each other.
+  // The region's critical angles, and within their turn the support edges' (support_edge_angles).
   std::vector<double> angles = region.angles();
-  if (!edges.empty()) {
+  if (!support_edges.empty()) {
     const double base = angles.front();
-    std::vector<double> at_edges;
-    for (const EdgeInPlane& e : edges) {
-      edge_tangent_angles(e, cx, cy, h, at_edges);
-      for (const Curve2& curve : light.boundary) edge_boundary_angles(e, curve, cx, cy, h, at_edges);
-    }
-    // Where two edges meet inside the region, a ray's interval inside the
-    // support turns from ending at one to ending at the other: a kink.
-    std::vector<Point2> corners;
-    for (size_t i = 0; i < support_edges.size(); ++i)
-      for (size_t j = i + 1; j < support_edges.size(); ++j)
-        edge_corners(support_edges[i], support_edges[j], light, corners);
-    std::vector<std::pair<double, double>> spans;
-    for (const Point2& x : corners) {
-      const double dx = x.x - cx, dy = x.y - cy, rho = std::hypot(dx, dy);
-      if (!(rho > 0)) continue;
-      region.intervals(dx / rho, dy / rho, spans);
-      for (const auto& [lo, hi] : spans)
-        if (rho > lo && rho < hi) at_edges.push_back(std::atan2(dy, dx));
-    }
-    for (double a : at_edges) {
+    for (double a : support_edge_angles(support_edges, light, region)) {
       a = base + std::remainder(a - base - kPi, 2 * kPi) + kPi;  // into [base, base + 2π]
       if (a > base && a < base + 2 * kPi) angles.push_back(a);
     }
     std::sort(angles.begin(), angles.end());
   }
   // Each piece's two halves in σ ∈ [0, √((b − a)/2)].
-  
   auto from_low = [&](double a) { return [&outer, a](double sigma) { return 2 * sigma * outer(a + sigma * sigma); }; };
   auto from_high = [&](double b) { return [&outer, b](double sigma) { return 2 * sigma * outer(b - sigma * sigma); }; };
   double first = 0;

@@ -139,6 +139,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <initializer_list>
 #include <iterator>
 #include <limits>
 #include <map>
@@ -697,23 +698,37 @@ TEST(GlassPrecision, SkyOnOneSide) {
 // An MIS control: the library's value `got` misses the defective reference
 // by more than kControlMiss and its stated bound, the right reference (at
 // kControlTolerance) by far less.
-struct MisControl {
-  const char* what;
-  double got, bound;
-  Big want_wrong, want_right;
-};
+// The MIS and light moments a control checks.
+enum class Moment { kLight, kOneSample, kBalance, kPower };
 
-void expect_missed(const MisControl& c) {
-  const double miss = relative_error(c.got, c.want_wrong);
-  const double miss_reference = relative_error(static_cast<double>(c.want_right), c.want_wrong);
-  std::printf("[ glass ] control %-36s relative difference %.3g from the library, %.3g from the right reference\n",
-              c.what, miss, miss_reference);
-  EXPECT_GT(miss, kControlMiss) << c.what;
-  EXPECT_GT(miss, c.bound) << c.what;
-  EXPECT_GT(miss_reference, kControlMiss) << c.what;
-  // The right reference at kControlTolerance is the library's value (to
-  // 1e-13 in the default sweeps), so each miss is the defect's.
-  EXPECT_LE(relative_error(c.got, c.want_right), kControlMiss / 1000) << c.what;
+// A defective reference `wrong` misses the library's moments `m` and the
+// right reference on each of `moments`, by more than kControlMiss and the
+// library's stated bound, while the right one is the library's value.
+void expect_missed(const char* defect, std::initializer_list<Moment> moments, const InterfaceMisMoments& m,
+                   const MisReference& wrong, const MisReference& right) {
+  for (const Moment moment : moments) {
+    struct Row {
+      const char* name;
+      double got, bound;
+      const Big &want_wrong, &want_right;
+    };
+    const Row c = moment == Moment::kLight     ? Row{"light", m.light, m.light_bound, wrong.light, right.light}
+                  : moment == Moment::kOneSample ? Row{"one-sample", m.one_sample, m.one_sample_bound, wrong.one_sample,
+                                                     right.one_sample}
+                  : moment == Moment::kBalance ? Row{"balance", m.balance, m.balance_bound, wrong.balance, right.balance}
+                                               : Row{"power", m.power, m.power_bound, wrong.power, right.power};
+    const std::string what = fmt::format("{}, {}", defect, c.name);
+    const double miss = relative_error(c.got, c.want_wrong);
+    const double miss_reference = relative_error(static_cast<double>(c.want_right), c.want_wrong);
+    std::printf("[ glass ] control %-36s relative difference %.3g from the library, %.3g from the right reference\n",
+                what.c_str(), miss, miss_reference);
+    EXPECT_GT(miss, kControlMiss) << what;
+    EXPECT_GT(miss, stated_mis_bound(c.got, c.bound)) << what;
+    EXPECT_GT(miss_reference, kControlMiss) << what;
+    // The right reference at kControlTolerance is the library's value (to
+    // 1e-13 in the default sweeps), so each miss is the defect's.
+    EXPECT_LE(relative_error(c.got, c.want_right), kControlMiss / 1000) << what;
+  }
 }
 
 // Negative controls: a reference with a defect misses the library and the
@@ -760,18 +775,9 @@ TEST(GlassPrecision, DefectiveReferencesAreMissed) {
   const MisReference mis_right = mis_reference(right_mis, s);
   const MisReference one_sided = mis_reference(reference(k_mis, Defect::kOneSidedLight, kControlTolerance), s);
   const MisReference no_cross_term = mis_reference(right_mis, s, /*cross_term=*/false);
-  const MisControl mis_controls[] = {
-      {"one-sided light density, one-sample", m.one_sample, stated_mis_bound(m.one_sample, m.one_sample_bound),
-       one_sided.one_sample, mis_right.one_sample},
-      {"one-sided light density, balance", m.balance, stated_mis_bound(m.balance, m.balance_bound), one_sided.balance,
-       mis_right.balance},
-      {"one-sided light density, power", m.power, stated_mis_bound(m.power, m.power_bound), one_sided.power,
-       mis_right.power},
-      {"no cross term, balance", m.balance, stated_mis_bound(m.balance, m.balance_bound), no_cross_term.balance,
-       mis_right.balance},
-      {"no cross term, power", m.power, stated_mis_bound(m.power, m.power_bound), no_cross_term.power,
-       mis_right.power}};
-  for (const MisControl& c : mis_controls) expect_missed(c);
+  expect_missed("one-sided light density", {Moment::kOneSample, Moment::kBalance, Moment::kPower}, m, one_sided,
+                mis_right);
+  expect_missed("no cross term", {Moment::kBalance, Moment::kPower}, m, no_cross_term, mis_right);
 }
 
 // Under the sky on the viewer's side (SkyOnOneSide's first case), the
@@ -785,16 +791,8 @@ TEST(GlassPrecision, DefectiveSkyReferencesAreMissed) {
       dielectric_interface_mis_moments(Dielectric{1.5, k.alpha, k.shadowing}, k.eta, k.mu, radiance, k.env);
   const MisReference right = mis_reference(reference(k, Defect::kNone, kControlTolerance), s);
   const MisReference cosine = mis_reference(reference(k, Defect::kCosineLightUnderMap, kControlTolerance), s);
-  const MisControl controls[] = {
-      {"cosine light under the map, light", m.light, stated_mis_bound(m.light, m.light_bound), cosine.light,
-       right.light},
-      {"cosine light under the map, one-sample", m.one_sample, stated_mis_bound(m.one_sample, m.one_sample_bound),
-       cosine.one_sample, right.one_sample},
-      {"cosine light under the map, balance", m.balance, stated_mis_bound(m.balance, m.balance_bound), cosine.balance,
-       right.balance},
-      {"cosine light under the map, power", m.power, stated_mis_bound(m.power, m.power_bound), cosine.power,
-       right.power}};
-  for (const MisControl& c : controls) expect_missed(c);
+  expect_missed("cosine light under the map",
+                {Moment::kLight, Moment::kOneSample, Moment::kBalance, Moment::kPower}, m, cosine, right);
 }
 
 // ---------------------------------------------------------------------------
